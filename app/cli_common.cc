@@ -1,0 +1,49 @@
+#include "app/cli_common.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/csv.h"
+#include "common/errors.h"
+
+namespace airtwin::cli {
+
+Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag) {
+  const size_t comma = text.find(',');
+  std::optional<double> x, y;
+  if (comma != std::string::npos) {
+    x = parse_finite_double(text.substr(0, comma));
+    y = parse_finite_double(text.substr(comma + 1));
+  }
+  if (!x || !y) {
+    throw InputError(flag + ": expected two finite numbers 'X,Y' in metres, got '" + text + "'");
+  }
+  return {*x, *y};
+}
+
+void require_range(double v, double lo, double hi, const std::string& flag,
+                   const std::string& what) {
+  if (!std::isfinite(v) || v < lo || v > hi) {
+    throw InputError(flag + ": expected " + what + ", got " + std::to_string(v));
+  }
+}
+
+void ensure_parent_dir(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(parent, ec);
+  if (ec) throw InputError(path + ": cannot create directory '" + parent.string() + "': " + ec.message());
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  ensure_parent_dir(path);
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(path + ": cannot open file for writing");
+  out << text;
+  out.close();
+  if (!out) throw InputError(path + ": write failed");
+}
+
+}  // namespace airtwin::cli

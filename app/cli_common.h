@@ -1,0 +1,21 @@
+#pragma once
+// Helpers shared by the subcommands: flag parsing at the edge (degrees, "X,Y" pairs), output files.
+
+#include <Eigen/Core>
+#include <string>
+
+namespace airtwin::cli {
+
+/// Parses "X,Y" (two finite numbers) for flag `flag`; throws InputError naming the flag.
+Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag);
+
+/// Throws InputError "<flag>: expected a finite number ..." unless v is finite and in [lo, hi].
+void require_range(double v, double lo, double hi, const std::string& flag, const std::string& what);
+
+/// Creates the parent directory of `path` if needed; throws InputError when it cannot.
+void ensure_parent_dir(const std::string& path);
+
+/// Writes `text` to `path` (creating the parent directory); throws InputError on failure.
+void write_text_file(const std::string& path, const std::string& text);
+
+}  // namespace airtwin::cli

@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand of `airtwin` registers itself on the top-level CLI11 app. A command's callback
+// throws InputError for bad input; main() turns that into one line on stderr and exit status 1.
+
+#include <CLI/CLI.hpp>
+
+namespace airtwin::cli {
+
+void add_field_command(CLI::App& app);      // eq. (1)-(3) field on a grid: CSV + PNG
+void add_aim_command(CLI::App& app);        // desired stagnation point -> (pan, tilt)
+void add_fitfield_command(CLI::App& app);   // Appendix C: fit the coefficient table to grids
+void add_maketable_command(CLI::App& app);  // construct the default table from wall-jet physics
+
+}  // namespace airtwin::cli

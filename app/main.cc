@@ -1,0 +1,45 @@
+// airtwin: the command-line entry point. Exit status: 0 success, 2 usage error (bad or missing
+// flag), 1 bad input or failed run; every failure prints exactly one line on stderr.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "app/commands.h"
+#include "common/errors.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "airtwin: digital twin of remote airflow manipulation (jet-induced air field on a floor,\n"
+      "object dynamics, MuJoCo twin, camera, CEM controller). Run 'airtwin <command> --help'."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "airtwin 0.1.0");
+  airtwin::cli::add_field_command(app);
+  airtwin::cli::add_aim_command(app);
+  airtwin::cli::add_fitfield_command(app);
+  airtwin::cli::add_maketable_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string where = "airtwin";
+    for (const CLI::App* sub : app.get_subcommands()) where += " " + sub->get_name();
+    std::fprintf(stderr, "%s: usage error: %s (see '%s --help')\n", where.c_str(), e.what(),
+                 where.c_str());
+    return 2;
+  } catch (const airtwin::InputError& e) {
+    std::fprintf(stderr, "airtwin: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "airtwin: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,90 @@
+#pragma once
+// The analytical air-field model of section III: for a nozzle orientation (pan, tilt), the air
+// velocity on the floor at any point, in three steps:
+//   (i)  projection point c (eq. 1) and stagnation point s (eq. 2);
+//   (ii) distance r and direction alpha of the point seen from s, alpha measured from the jet's
+//        downstream direction (the pan direction);
+//   (iii) speed from eq. (3) with coefficients interpolated linearly in alpha (with wrap-around
+//        at 360 deg) and by Makima in tilt (tilt clamped to the fitted range); direction radial
+//        from s; zero at s.
+//
+// AirFieldModel is the fixed model (geometry + table), immutable after construction and safe to
+// share between threads. OrientedField is the per-orientation data: it holds s and the 360
+// coefficient profiles already interpolated to the orientation's tilt, so evaluating a point is a
+// handful of arithmetic operations and two exponentials.
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+
+#include "models/field_table.h"
+#include "models/nozzle_geometry.h"
+
+namespace airtwin {
+
+class AirFieldModel;
+
+/// The field for one nozzle orientation. Cheap to build (~1 us), cheap to copy, immutable.
+class OrientedField {
+ public:
+  const Eigen::Vector2d& stagnation_point() const { return s_W_; }
+  const Eigen::Vector2d& projection_point() const { return c_W_; }
+  const NozzleOrientation& orientation() const { return orientation_; }
+  /// The tilt (rad) at which the coefficients were interpolated: the tilt clamped to the table.
+  double coefficient_tilt_rad() const { return coefficient_tilt_rad_; }
+
+  /// Air speed (m/s) at floor point p_W (m).
+  double speed(const Eigen::Vector2d& p_W) const;
+  /// Air velocity (m/s, world frame) at floor point p_W (m); zero at s.
+  Eigen::Vector2d velocity(const Eigen::Vector2d& p_W) const;
+  /// The eq. (3) profile in direction alpha_rad (from downstream), linearly interpolated in alpha.
+  FieldCoefficients coefficients(double alpha_rad) const;
+
+  /// Batch evaluation: speeds (m/s) at the columns of p_W (2 x N, m). `speed_out` has N entries.
+  void speeds(const Eigen::Ref<const Eigen::Matrix2Xd>& p_W,
+              Eigen::Ref<Eigen::VectorXd> speed_out) const;
+  /// Batch evaluation: velocities (2 x N, m/s) at the columns of p_W (2 x N, m).
+  void velocities(const Eigen::Ref<const Eigen::Matrix2Xd>& p_W,
+                  Eigen::Ref<Eigen::Matrix2Xd> v_out) const;
+
+ private:
+  friend class AirFieldModel;
+  // Speed and unit direction at one point; the shared kernel of every evaluation.
+  double speed_and_direction(double dx, double dy, double* ux, double* uy) const;
+
+  NozzleOrientation orientation_;
+  double coefficient_tilt_rad_ = 0.0;
+  Eigen::Vector2d c_W_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d s_W_ = Eigen::Vector2d::Zero();
+  // Profiles at alpha = 0..359 deg plus a copy of alpha 0 at index 360 for the wrap-around.
+  std::array<FieldCoefficients, FieldTable::kAlphaBins + 1> ring_;
+};
+
+/// The fixed air-field model: rig geometry and coefficient table.
+class AirFieldModel {
+ public:
+  /// Throws InputError when the geometry is invalid.
+  AirFieldModel(NozzleGeometry geometry, FieldTable table);
+  /// The paper's geometry with the shipped default table.
+  static AirFieldModel with_default_table();
+
+  const NozzleGeometry& geometry() const { return geometry_; }
+  const FieldTable& table() const { return table_; }
+
+  /// The field for one orientation (pan, tilt in rad; tilt must be finite and in [0, 90) deg,
+  /// otherwise InputError).
+  OrientedField at(const NozzleOrientation& o) const;
+
+  /// Convenience: velocity (m/s) at p_W (m) for orientation o. Prefer at() for many points.
+  Eigen::Vector2d velocity(const NozzleOrientation& o, const Eigen::Vector2d& p_W) const {
+    return at(o).velocity(p_W);
+  }
+
+ private:
+  NozzleGeometry geometry_;
+  FieldTable table_;
+  // Makima node slopes over tilt, per (alpha, coefficient): slopes_[a][k][i] for tilt node i.
+  std::vector<std::array<std::array<double, 3>, FieldTable::kAlphaBins>> slopes_by_tilt_;
+};
+
+}  // namespace airtwin
