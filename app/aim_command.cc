@@ -27,7 +27,7 @@ void run_aim(const AimArgs& a) {
   try {
     g.validate();
   } catch (const InputError& e) {
-    throw InputError(std::string("--max-tilt: ") + e.what());
+    throw UsageError(std::string("--max-tilt: ") + e.what());
   }
   const AimResult r = aim_at_stagnation(g, s, deg_to_rad(a.pan_hint_deg));
   if (!r.reachable()) {

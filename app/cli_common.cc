@@ -17,7 +17,7 @@ Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag) {
     y = parse_finite_double(text.substr(comma + 1));
   }
   if (!x || !y) {
-    throw InputError(flag + ": expected two finite numbers 'X,Y' in metres, got '" + text + "'");
+    throw UsageError(flag + ": expected two finite numbers 'X,Y' in metres, got '" + text + "'");
   }
   return {*x, *y};
 }
@@ -25,7 +25,7 @@ Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag) {
 void require_range(double v, double lo, double hi, const std::string& flag,
                    const std::string& what) {
   if (!std::isfinite(v) || v < lo || v > hi) {
-    throw InputError(flag + ": expected " + what + ", got " + std::to_string(v));
+    throw UsageError(flag + ": expected " + what + ", got " + std::to_string(v));
   }
 }
 

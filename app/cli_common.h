@@ -6,10 +6,10 @@
 
 namespace airtwin::cli {
 
-/// Parses "X,Y" (two finite numbers) for flag `flag`; throws InputError naming the flag.
+/// Parses "X,Y" (two finite numbers) for flag `flag`; throws UsageError naming the flag.
 Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag);
 
-/// Throws InputError "<flag>: expected a finite number ..." unless v is finite and in [lo, hi].
+/// Throws UsageError "<flag>: expected <what>, got <v>" unless v is finite and in [lo, hi].
 void require_range(double v, double lo, double hi, const std::string& flag, const std::string& what);
 
 /// Creates the parent directory of `path` if needed; throws InputError when it cannot.

@@ -42,7 +42,7 @@ void run_field(const FieldArgs& a) {
   const long half = static_cast<long>(std::floor(0.5 * a.extent_m / a.step_m + 1e-9));
   const long n = 2 * half + 1;
   if (n * n > kMaxGridPoints) {
-    throw InputError("--step: " + std::to_string(n) + " x " + std::to_string(n) +
+    throw UsageError("--step: " + std::to_string(n) + " x " + std::to_string(n) +
                      " grid points is more than the limit of " + std::to_string(kMaxGridPoints) +
                      "; use a larger --step or a smaller --extent");
   }

@@ -31,6 +31,18 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::string where = "airtwin";
     for (const CLI::App* sub : app.get_subcommands()) where += " " + sub->get_name();
+    std::string message = e.what();
+    // A first word that is no command: name it and list the commands.
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      message = std::string("unknown command '") + argv[1] + "'; commands:";
+      for (const CLI::App* sub : app.get_subcommands({})) message += " " + sub->get_name();
+    }
+    std::fprintf(stderr, "%s: usage error: %s (see '%s --help')\n", where.c_str(), message.c_str(),
+                 where.c_str());
+    return 2;
+  } catch (const airtwin::UsageError& e) {
+    std::string where = "airtwin";
+    for (const CLI::App* sub : app.get_subcommands()) where += " " + sub->get_name();
     std::fprintf(stderr, "%s: usage error: %s (see '%s --help')\n", where.c_str(), e.what(),
                  where.c_str());
     return 2;

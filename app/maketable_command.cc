@@ -26,7 +26,7 @@ std::vector<double> parse_list(const std::string& text, const std::string& flag)
     const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos
                                                                            : comma - start);
     const std::optional<double> v = parse_finite_double(item);
-    if (!v) throw InputError(flag + ": expected comma-separated numbers, got '" + text + "'");
+    if (!v) throw UsageError(flag + ": expected comma-separated numbers, got '" + text + "'");
     out.push_back(*v);
     if (comma == std::string::npos) return out;
     start = comma + 1;

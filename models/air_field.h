@@ -49,10 +49,16 @@ class OrientedField {
 
  private:
   friend class AirFieldModel;
-  // Speed and unit direction at one point; the shared kernel of every evaluation.
-  double speed_and_direction(double dx, double dy, double* ux, double* uy) const;
+  static constexpr int kBlock = 64;
+  // The kernel of every evaluation: speeds (and, when ux is given, unit directions from s) of up
+  // to kBlock points (x[i], y[i]). Vectorised angle and exponentials.
+  void evaluate_block(const double* x, const double* y, int n, double* speed, double* ux,
+                      double* uy) const;
+  // Both kernels read the points through a stride (2 for the columns of a 2 x N matrix).
+  void evaluate(const double* xy, Eigen::Index n, double* speed, double* v_xy) const;
 
   NozzleOrientation orientation_;
+  double cos_pan_ = 1.0, sin_pan_ = 0.0;  // rotation into the jet frame (alpha from downstream)
   double coefficient_tilt_rad_ = 0.0;
   Eigen::Vector2d c_W_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d s_W_ = Eigen::Vector2d::Zero();
@@ -83,7 +89,7 @@ class AirFieldModel {
  private:
   NozzleGeometry geometry_;
   FieldTable table_;
-  // Makima node slopes over tilt, per (alpha, coefficient): slopes_[a][k][i] for tilt node i.
+  // Makima node slopes over tilt: slopes_by_tilt_[tilt node][alpha][coefficient b1, b2, b3].
   std::vector<std::array<std::array<double, 3>, FieldTable::kAlphaBins>> slopes_by_tilt_;
 };
 

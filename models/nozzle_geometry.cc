@@ -101,6 +101,7 @@ AimResult aim_at_stagnation(const NozzleGeometry& g, const Eigen::Vector2d& s_W,
   double rho_c = std::clamp(rho_s, lo, hi);  // rho_c >= rho_s; a good start for small offsets
   for (int it = 0; it < 100; ++it) {
     const double f = stagnation_radius(g, rho_c) - rho_s;
+    if (f == 0.0) break;
     if (f > 0) hi = rho_c; else lo = rho_c;
     const double slope = stagnation_radius_slope(g, rho_c);
     double next = rho_c - f / slope;

@@ -1,0 +1,143 @@
+// The `airtwin` binary end to end: exit status 0 / 2 (usage) / 1 (bad input), exactly one error
+// line on stderr naming the culprit, and outputs that agree with the model library.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "common/csv.h"
+#include "common/units.h"
+#include "models/air_field.h"
+#include "models/nozzle_geometry.h"
+#include "tests/app/cli_runner.h"
+
+namespace airtwin {
+namespace {
+
+using testing::count_lines;
+using testing::run_airtwin;
+using testing::scratch_dir;
+
+// A failure: the expected exit status, nothing but one line on stderr, containing `fragment`.
+void expect_failure(const std::string& args, int code, const std::string& fragment) {
+  const auto r = run_airtwin(args);
+  EXPECT_EQ(r.exit_code, code) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << "\nstderr: " << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << args << "\nstderr: " << r.err;
+}
+
+TEST(Cli, HelpForEveryCommand) {
+  for (const char* cmd : {"", "field", "aim", "fitfield", "maketable"}) {
+    const auto r = run_airtwin(std::string(cmd) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
+  }
+  EXPECT_NE(run_airtwin("field --help").out.find("--tilt"), std::string::npos);
+}
+
+TEST(Cli, UsageErrorsExitTwoWithOneLine) {
+  expect_failure("", 2, "usage error");
+  expect_failure("frobnicate", 2, "frobnicate");
+  expect_failure("field --pan 0 --tilt 10", 2, "--out");
+  expect_failure("field --pan abc --tilt 10 --out x.csv", 2, "--pan");
+  expect_failure("field --pan 0 --tilt nan --out x.csv", 2, "--tilt");
+  expect_failure("field --pan 0 --tilt 95 --out x.csv", 2, "--tilt");
+  expect_failure("field --pan 0 --tilt 10 --step -1 --out x.csv", 2, "--step");
+  expect_failure("field --pan 0 --tilt 10 --extent 2 --step 0.0001 --out x.csv", 2, "--step");
+  expect_failure("aim --stagnation '1;2'", 2, "--stagnation");
+  expect_failure("aim --stagnation 0.1,nan", 2, "--stagnation");
+  expect_failure("aim --stagnation 0.1,0.2 --max-tilt 80", 2, "--max-tilt");
+}
+
+TEST(Cli, FieldWritesTheModelsNumbers) {
+  const std::string dir = scratch_dir("field");
+  const auto r = run_airtwin("field --pan 90 --tilt 22.5 --extent 2 --step 0.1 --out " + dir +
+                             "/sub/field.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty());
+  const CsvTable csv = CsvTable::read_file(dir + "/sub/field.csv", {"x", "y", "vx", "vy", "speed"});
+  ASSERT_EQ(csv.rows(), 21u * 21u);
+  const OrientedField f = AirFieldModel::with_default_table().at({deg_to_rad(90), deg_to_rad(22.5)});
+  double max_speed = 0;
+  bool saw_origin = false;
+  for (size_t i = 0; i < csv.rows(); ++i) {
+    const Eigen::Vector2d p(csv.number(i, "x"), csv.number(i, "y"));
+    EXPECT_LE(p.cwiseAbs().maxCoeff(), 1.0 + 1e-9);
+    saw_origin |= p.norm() < 1e-12;
+    const Eigen::Vector2d v = f.velocity(p);
+    EXPECT_NEAR(csv.number(i, "vx"), v.x(), 2e-6);
+    EXPECT_NEAR(csv.number(i, "vy"), v.y(), 2e-6);
+    EXPECT_NEAR(csv.number(i, "speed"), v.norm(), 2e-6);
+    max_speed = std::max(max_speed, csv.number(i, "speed"));
+  }
+  EXPECT_TRUE(saw_origin);
+  EXPECT_GT(max_speed, 2.5);
+  EXPECT_LT(max_speed, 3.41);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, FieldWithPngWritesAPicture) {
+  const std::string dir = scratch_dir("field_png");
+  const auto r = run_airtwin("field --pan 0 --tilt 0 --step 0.05 --out " + dir + "/f.csv --png " +
+                             dir + "/f.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream png(dir + "/f.png", std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, FieldRejectsABadTableWithItsName) {
+  const std::string dir = scratch_dir("badtable");
+  std::ofstream(dir + "/t.csv") << "tilt_deg,alpha_deg,b1,b2\n0,0,1,2\n";
+  expect_failure("field --pan 0 --tilt 10 --table " + dir + "/t.csv --out " + dir + "/o.csv", 1,
+                 dir + "/t.csv: missing column 'b3'");
+  expect_failure("field --pan 0 --tilt 10 --table " + dir + "/none.csv --out " + dir + "/o.csv", 1,
+                 "none.csv: cannot open");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, FieldReportsAnUnwritableOutput) {
+  expect_failure("field --pan 0 --tilt 10 --step 0.5 --out /proc/airtwin/x.csv", 1, "/proc/airtwin");
+}
+
+TEST(Cli, AimRoundTripsThroughTheForwardModel) {
+  for (const auto& target : {Eigen::Vector2d(0.3, 0.4), Eigen::Vector2d(-1.0, 0.2),
+                             Eigen::Vector2d(0.0, -0.05)}) {
+    char arg[96];
+    std::snprintf(arg, sizeof arg, "aim --stagnation %.17g,%.17g", target.x(), target.y());
+    const auto r = run_airtwin(arg);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const NozzleOrientation o{deg_to_rad(j["pan_deg"].get<double>()),
+                              deg_to_rad(j["tilt_deg"].get<double>())};
+    // The printed orientation, put back through eqs. (1)-(2), lands on the target.
+    EXPECT_LT((stagnation_point(NozzleGeometry{}, o) - target).norm(), 1e-9);
+    EXPECT_NEAR(j["stagnation"][0].get<double>(), target.x(), 1e-9);
+    EXPECT_NEAR(j["stagnation"][1].get<double>(), target.y(), 1e-9);
+    const Eigen::Vector2d c = projection_point(NozzleGeometry{}, o);
+    EXPECT_NEAR(j["projection"][0].get<double>(), c.x(), 1e-12);
+  }
+}
+
+TEST(Cli, AimRejectsUnreachableTargets) {
+  expect_failure("aim --stagnation 2.5,0", 1, "unreachable");
+}
+
+TEST(Cli, MaketableReproducesTheShippedTable) {
+  const std::string dir = scratch_dir("maketable");
+  const auto r = run_airtwin("maketable --out " + dir + "/t.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_text_file(dir + "/t.csv"),
+            read_text_file(std::string(AIRTWIN_SOURCE_DIR) + "/models/data/default_field_table.csv"));
+  expect_failure("maketable --tilts 0,x --out " + dir + "/u.csv", 2, "--tilts");
+  expect_failure("maketable --tilts 0,45 --out " + dir + "/u.csv", 1, "at least 3 tilts");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace airtwin
