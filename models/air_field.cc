@@ -85,7 +85,8 @@ FieldCoefficients OrientedField::coefficients(double alpha_rad) const {
 }
 
 // Compiled twice: for AVX2+FMA CPUs (x86-64-v3) and for baseline x86-64, picked at load time.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(AIRTWIN_NO_TARGET_CLONES)
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
 void OrientedField::evaluate_block(const double* x, const double* y, int n, double* speed,
