@@ -49,9 +49,10 @@ void run_aim(const AimArgs& a) {
 void add_aim_command(CLI::App& app) {
   auto args = std::make_shared<AimArgs>();
   CLI::App* sub = app.add_subcommand(
-      "aim", "Nozzle orientation that puts the stagnation point at X,Y (inverse of eqs. 1-2).\n"
-             "Prints JSON {pan_deg, tilt_deg, projection:[x,y], stagnation:[x,y]}; exit 1 when the\n"
-             "point is unreachable.");
+      "aim",
+      "Nozzle orientation that puts the stagnation point at X,Y (inverse of eqs. 1-2).\n"
+      "Prints JSON {pan_deg, tilt_deg, projection:[x,y], stagnation:[x,y]}; exit 1 when the\n"
+      "point is unreachable.");
   sub->add_option("--stagnation", args->stagnation, "Desired stagnation point 'X,Y' in metres")
       ->required();
   sub->add_option("--pan-hint", args->pan_hint_deg,

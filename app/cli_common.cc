@@ -34,7 +34,8 @@ void ensure_parent_dir(const std::string& path) {
   if (parent.empty()) return;
   std::error_code ec;
   std::filesystem::create_directories(parent, ec);
-  if (ec) throw InputError(path + ": cannot create directory '" + parent.string() + "': " + ec.message());
+  if (ec)
+    throw InputError(path + ": cannot create directory '" + parent.string() + "': " + ec.message());
 }
 
 void write_text_file(const std::string& path, const std::string& text) {

@@ -10,7 +10,8 @@ namespace airtwin::cli {
 Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag);
 
 /// Throws UsageError "<flag>: expected <what>, got <v>" unless v is finite and in [lo, hi].
-void require_range(double v, double lo, double hi, const std::string& flag, const std::string& what);
+void require_range(double v, double lo, double hi, const std::string& flag,
+                   const std::string& what);
 
 /// Creates the parent directory of `path` if needed; throws InputError when it cannot.
 void ensure_parent_dir(const std::string& path);

@@ -77,10 +77,11 @@ void run_field(const FieldArgs& a) {
   write_text_file(a.out, csv);
 
   const Eigen::Vector2d s = field.stagnation_point(), c = field.projection_point();
-  std::printf("field: pan %.3f deg, tilt %.3f deg: c = (%.4f, %.4f) m, s = (%.4f, %.4f) m, "
-              "max speed %.3f m/s on %ldx%ld grid -> %s\n",
-              a.pan_deg, a.tilt_deg, c.x(), c.y(), s.x(), s.y(), grid.speed.maxCoeff(), n, n,
-              a.out.c_str());
+  std::printf(
+      "field: pan %.3f deg, tilt %.3f deg: c = (%.4f, %.4f) m, s = (%.4f, %.4f) m, "
+      "max speed %.3f m/s on %ldx%ld grid -> %s\n",
+      a.pan_deg, a.tilt_deg, c.x(), c.y(), s.x(), s.y(), grid.speed.maxCoeff(), n, n,
+      a.out.c_str());
   if (!a.png.empty()) {
     plots::FieldMarks marks;
     marks.stagnation_W = s;
@@ -100,8 +101,9 @@ void run_field(const FieldArgs& a) {
 void add_field_command(CLI::App& app) {
   auto args = std::make_shared<FieldArgs>();
   CLI::App* sub = app.add_subcommand(
-      "field", "Evaluate the analytical air field (eqs. 1-3) for one nozzle orientation on a grid\n"
-               "centred on the origin; write CSV x,y,vx,vy,speed (m, m/s) and optionally a PNG.");
+      "field",
+      "Evaluate the analytical air field (eqs. 1-3) for one nozzle orientation on a grid\n"
+      "centred on the origin; write CSV x,y,vx,vy,speed (m, m/s) and optionally a PNG.");
   sub->add_option("--pan", args->pan_deg, "Nozzle pan angle theta in degrees")->required();
   sub->add_option("--tilt", args->tilt_deg, "Nozzle tilt angle phi in degrees (0 = straight down)")
       ->required();

@@ -1,5 +1,6 @@
 // airtwin maketable: construct a coefficient table from wall-jet physics (models/wall_jet_table.h).
-// The shipped default table is exactly `airtwin maketable --out models/data/default_field_table.csv`.
+// The shipped default table is exactly `airtwin maketable --out
+// models/data/default_field_table.csv`.
 
 #include <cstdio>
 
@@ -23,8 +24,8 @@ std::vector<double> parse_list(const std::string& text, const std::string& flag)
   size_t start = 0;
   while (true) {
     const size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos
-                                                                           : comma - start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const std::optional<double> v = parse_finite_double(item);
     if (!v) throw UsageError(flag + ": expected comma-separated numbers, got '" + text + "'");
     out.push_back(*v);
@@ -46,15 +47,17 @@ void run_maketable(MakeTableArgs a) {
 void add_maketable_command(CLI::App& app) {
   auto args = std::make_shared<MakeTableArgs>();
   CLI::App* sub = app.add_subcommand(
-      "maketable", "Construct an eq. (3) coefficient table from wall-jet physics and the paper's\n"
-                   "numbers (docs/field_model.md). The defaults reproduce the shipped table.");
+      "maketable",
+      "Construct an eq. (3) coefficient table from wall-jet physics and the paper's\n"
+      "numbers (docs/field_model.md). The defaults reproduce the shipped table.");
   WallJetDesign& d = args->design;
   sub->add_option("--tilts", args->tilts, "Tilts of the table, degrees")->capture_default_str();
   sub->add_option("--peak-speed", d.peak_speed_mps, "Largest peak air speed, m/s")
       ->capture_default_str();
   sub->add_option("--peak-radius", d.peak_radius_m, "Peak radius of the normal jet, m")
       ->capture_default_str();
-  sub->add_option("--reach-radius", d.reach_radius_m, "Radius where the normal jet has reach-speed, m")
+  sub->add_option("--reach-radius", d.reach_radius_m,
+                  "Radius where the normal jet has reach-speed, m")
       ->capture_default_str();
   sub->add_option("--reach-speed", d.reach_speed_mps, "Normal jet's speed at reach-radius, m/s")
       ->capture_default_str();

@@ -41,9 +41,9 @@ void BM_FieldSpeeds(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * kPoints * 1e-9,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kPoints * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_FieldSpeeds)->Unit(benchmark::kMillisecond);
 
@@ -56,9 +56,9 @@ void BM_FieldVelocities(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * kPoints * 1e-9,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kPoints * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_FieldVelocities)->Unit(benchmark::kMillisecond);
 
@@ -95,9 +95,9 @@ void BM_FieldReferencePerPoint(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations() * kPoints);
-  state.counters["ns_per_point"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * kPoints * 1e-9,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kPoints * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_FieldReferencePerPoint)->Unit(benchmark::kMillisecond)->Iterations(2);
 

@@ -95,7 +95,8 @@ CsvTable CsvTable::parse(std::string_view text, const std::string& source,
   bool have_header = false;
   while (pos < text.size()) {
     size_t nl = text.find('\n', pos);
-    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? text.size() - pos : nl - pos);
+    std::string_view raw =
+        text.substr(pos, nl == std::string_view::npos ? text.size() - pos : nl - pos);
     pos = (nl == std::string_view::npos) ? text.size() : nl + 1;
     ++line_no;
     std::string line = trim(raw);
@@ -125,7 +126,8 @@ CsvTable CsvTable::parse(std::string_view text, const std::string& source,
   for (size_t i = 0; i < t.header_.size(); ++i) {
     const std::string& name = t.header_[i];
     if (std::find(expected.begin(), expected.end(), name) == expected.end()) {
-      throw InputError(source + ": unknown column '" + name + "' in header, expected " + expect_text);
+      throw InputError(source + ": unknown column '" + name + "' in header, expected " +
+                       expect_text);
     }
     if (std::find(t.header_.begin() + i + 1, t.header_.end(), name) != t.header_.end()) {
       throw InputError(source + ": column '" + name + "' appears twice in the header");

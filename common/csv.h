@@ -31,8 +31,8 @@ class CsvTable {
   size_t rows() const { return cells_.size(); }
   bool has_column(const std::string& name) const;
 
-  /// The cell at data row `row`, column `name`, as a finite double. Throws InputError naming line and
-  /// column when it is not a finite number.
+  /// The cell at data row `row`, column `name`, as a finite double. Throws InputError naming line
+  /// and column when it is not a finite number.
   double number(size_t row, const std::string& name) const;
   /// The raw text of a cell (trimmed).
   const std::string& text(size_t row, const std::string& name) const;

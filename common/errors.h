@@ -1,6 +1,7 @@
 #pragma once
 // Error kinds, kept apart as the style guide asks:
-//  - InputError: the user gave a file, flag or field we cannot use. The message names the file, line,
+//  - InputError: the user gave a file, flag or field we cannot use. The message names the file,
+//  line,
 //    column or flag and what was expected; the CLI prints it as one line and exits with status 1.
 //  - UsageError (an InputError): a command-line flag's value is unusable; exit status 2.
 //  - AIRTWIN_DEMAND: a broken internal invariant (a bug), aborts loudly with file:line.

@@ -13,7 +13,9 @@ namespace {
 
 constexpr double kBinsPerRad = FieldTable::kAlphaBins / (2.0 * kPi);
 
-double coefficient(const FieldCoefficients& c, int k) { return k == 0 ? c.b1 : k == 1 ? c.b2 : c.b3; }
+double coefficient(const FieldCoefficients& c, int k) {
+  return k == 0 ? c.b1 : k == 1 ? c.b2 : c.b3;
+}
 
 }  // namespace
 

@@ -20,11 +20,10 @@ namespace airtwin {
 namespace fast_math_detail {
 constexpr double kZCenter = 0.08578643762690495;
 constexpr double kZHalfWidth = 0.08578643762690495;
-constexpr double kPoly[] = {0.9727918173603561,      -0.02590019545981393,
-                            0.0012335918789502908,   -6.980070659579063e-05,
-                            4.296550143045863e-06,   -2.7806799058893715e-07,
-                            1.8604730911420124e-08,  -1.2751439015801226e-09,
-                            9.007834478325095e-11,   -6.194511570356554e-12};
+constexpr double kPoly[] = {
+    0.9727918173603561,    -0.02590019545981393,    0.0012335918789502908,  -6.980070659579063e-05,
+    4.296550143045863e-06, -2.7806799058893715e-07, 1.8604730911420124e-08, -1.2751439015801226e-09,
+    9.007834478325095e-11, -6.194511570356554e-12};
 constexpr double kTanPi8 = 0.41421356237309503;
 constexpr double kPiValue = 3.141592653589793;
 constexpr double kLog2e = 1.4426950408889634;
@@ -48,12 +47,11 @@ inline double fast_atan2(double y, double x) {
   const double s = (u * u - kZCenter) * (1.0 / kZHalfWidth);
   double p = kPoly[9];
   for (int i = 8; i >= 0; --i) p = p * s + kPoly[i];
-  const double octant = (upper ? 0.25 * kPiValue : 0.0) + u * p;        // atan(t)
-  const double quadrant = steep ? 0.5 * kPiValue - octant : octant;     // first quadrant
-  const double half = x < 0.0 ? kPiValue - quadrant : quadrant;         // upper half-plane
+  const double octant = (upper ? 0.25 * kPiValue : 0.0) + u * p;     // atan(t)
+  const double quadrant = steep ? 0.5 * kPiValue - octant : octant;  // first quadrant
+  const double half = x < 0.0 ? kPiValue - quadrant : quadrant;      // upper half-plane
   return std::copysign(half, y);
 }
-
 
 /// e^x for x in [-700, 700] (clamped outside), relative error a few 1e-16.
 inline double fast_exp(double x) {

@@ -67,7 +67,8 @@ FieldTable FieldTable::parse_csv(std::string_view text, const std::string& sourc
     const double alpha = csv.number(row, "alpha_deg");
     const FieldCoefficients c{csv.number(row, "b1"), csv.number(row, "b2"), csv.number(row, "b3")};
     if (!(tilt >= 0 && tilt < 90)) {
-      throw InputError(csv.where(row) + ": column 'tilt_deg': expected a tilt in [0, 90) deg, got " +
+      throw InputError(csv.where(row) +
+                       ": column 'tilt_deg': expected a tilt in [0, 90) deg, got " +
                        csv.text(row, "tilt_deg"));
     }
     const bool new_block = tilts_deg.empty() || tilt != tilts_deg.back();
@@ -79,9 +80,10 @@ FieldTable FieldTable::parse_csv(std::string_view text, const std::string& sourc
                          ", expected 0..359)");
       }
       if (!tilts_deg.empty() && !(tilt > tilts_deg.back())) {
-        throw InputError(csv.where(row) + ": column 'tilt_deg': tilt blocks must be in increasing "
-                         "order without repeats, got " + csv.text(row, "tilt_deg") + " after " +
-                         std::to_string(tilts_deg.back()));
+        throw InputError(csv.where(row) +
+                         ": column 'tilt_deg': tilt blocks must be in increasing "
+                         "order without repeats, got " +
+                         csv.text(row, "tilt_deg") + " after " + std::to_string(tilts_deg.back()));
       }
       tilts_deg.push_back(tilt);
       blocks.emplace_back();
@@ -114,8 +116,8 @@ FieldTable FieldTable::parse_csv(std::string_view text, const std::string& sourc
 }
 
 const FieldTable& FieldTable::default_table() {
-  static const FieldTable table =
-      parse_csv(kDefaultFieldTableCsv, "built-in default table (models/data/default_field_table.csv)");
+  static const FieldTable table = parse_csv(
+      kDefaultFieldTableCsv, "built-in default table (models/data/default_field_table.csv)");
   return table;
 }
 

@@ -7,7 +7,8 @@
 //   w1 = |delta_{i+1} - delta_i| + |delta_{i+1} + delta_i| / 2,
 //   w2 = |delta_{i-1} - delta_{i-2}| + |delta_{i-1} + delta_{i-2}| / 2, d_i = 0 when w1 + w2 = 0;
 // the missing interval slopes at each end come from quadratic extrapolation
-// (delta_0 = 2 delta_1 - delta_2, delta_{-1} = 2 delta_0 - delta_1); then cubic Hermite per interval.
+// (delta_0 = 2 delta_1 - delta_2, delta_{-1} = 2 delta_0 - delta_1); then cubic Hermite per
+// interval.
 
 #include <span>
 #include <vector>

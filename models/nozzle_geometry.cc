@@ -80,8 +80,8 @@ AimResult aim_at_stagnation(const NozzleGeometry& g, const Eigen::Vector2d& s_W,
   if (rho_s > rho_s_max) {
     out.unreachable_reason = "stagnation point " + std::to_string(rho_s) +
                              " m from the origin is outside the reachable disc of radius " +
-                             std::to_string(rho_s_max) + " m (tilt <= " +
-                             std::to_string(rad_to_deg(g.tilt_max_rad)) + " deg)";
+                             std::to_string(rho_s_max) +
+                             " m (tilt <= " + std::to_string(rad_to_deg(g.tilt_max_rad)) + " deg)";
     return out;
   }
   if (rho_s < rho_s_min) {
@@ -102,7 +102,10 @@ AimResult aim_at_stagnation(const NozzleGeometry& g, const Eigen::Vector2d& s_W,
   for (int it = 0; it < 100; ++it) {
     const double f = stagnation_radius(g, rho_c) - rho_s;
     if (f == 0.0) break;
-    if (f > 0) hi = rho_c; else lo = rho_c;
+    if (f > 0)
+      hi = rho_c;
+    else
+      lo = rho_c;
     const double slope = stagnation_radius_slope(g, rho_c);
     double next = rho_c - f / slope;
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);

@@ -22,7 +22,8 @@ double solve_peak_ratio(double x) {
 
 // Relative speed factor of direction beta at tilt phi before the global scaling.
 double relative_peak(const WallJetDesign& d, double tilt_rad, double beta_rad) {
-  return std::cos(tilt_rad) * std::pow(oblique_momentum_share(tilt_rad, beta_rad), d.spread_exponent);
+  return std::cos(tilt_rad) *
+         std::pow(oblique_momentum_share(tilt_rad, beta_rad), d.spread_exponent);
 }
 
 }  // namespace

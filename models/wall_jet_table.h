@@ -28,10 +28,10 @@ namespace airtwin {
 
 struct WallJetDesign {
   std::vector<double> tilts_deg = {0.0, 22.5, 45.0};
-  double peak_speed_mps = 3.4;  ///< largest peak over all tilts and directions (paper, IV-B)
-  double peak_radius_m = 0.13;  ///< radius of the peak for the normal jet (phi = 0)
-  double reach_radius_m = 0.6;  ///< the normal jet has reach_speed here ...
-  double reach_speed_mps = 2.2;  ///< ... 10% above the tracer threshold 8.53 / 4.26 = 2.0 m/s
+  double peak_speed_mps = 3.4;    ///< largest peak over all tilts and directions (paper, IV-B)
+  double peak_radius_m = 0.13;    ///< radius of the peak for the normal jet (phi = 0)
+  double reach_radius_m = 0.6;    ///< the normal jet has reach_speed here ...
+  double reach_speed_mps = 2.2;   ///< ... 10% above the tracer threshold 8.53 / 4.26 = 2.0 m/s
   double spread_exponent = 0.25;  ///< speed ~ (momentum share)^spread_exponent
 
   /// Throws InputError when a number is outside its meaningful range.

@@ -60,7 +60,8 @@ TEST(Cli, FieldWritesTheModelsNumbers) {
   EXPECT_TRUE(r.err.empty());
   const CsvTable csv = CsvTable::read_file(dir + "/sub/field.csv", {"x", "y", "vx", "vy", "speed"});
   ASSERT_EQ(csv.rows(), 21u * 21u);
-  const OrientedField f = AirFieldModel::with_default_table().at({deg_to_rad(90), deg_to_rad(22.5)});
+  const OrientedField f =
+      AirFieldModel::with_default_table().at({deg_to_rad(90), deg_to_rad(22.5)});
   double max_speed = 0;
   bool saw_origin = false;
   for (size_t i = 0; i < csv.rows(); ++i) {
@@ -102,12 +103,13 @@ TEST(Cli, FieldRejectsABadTableWithItsName) {
 }
 
 TEST(Cli, FieldReportsAnUnwritableOutput) {
-  expect_failure("field --pan 0 --tilt 10 --step 0.5 --out /proc/airtwin/x.csv", 1, "/proc/airtwin");
+  expect_failure("field --pan 0 --tilt 10 --step 0.5 --out /proc/airtwin/x.csv", 1,
+                 "/proc/airtwin");
 }
 
 TEST(Cli, AimRoundTripsThroughTheForwardModel) {
-  for (const auto& target : {Eigen::Vector2d(0.3, 0.4), Eigen::Vector2d(-1.0, 0.2),
-                             Eigen::Vector2d(0.0, -0.05)}) {
+  for (const auto& target :
+       {Eigen::Vector2d(0.3, 0.4), Eigen::Vector2d(-1.0, 0.2), Eigen::Vector2d(0.0, -0.05)}) {
     char arg[96];
     std::snprintf(arg, sizeof arg, "aim --stagnation %.17g,%.17g", target.x(), target.y());
     const auto r = run_airtwin(arg);
@@ -132,8 +134,8 @@ TEST(Cli, MaketableReproducesTheShippedTable) {
   const std::string dir = scratch_dir("maketable");
   const auto r = run_airtwin("maketable --out " + dir + "/t.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(read_text_file(dir + "/t.csv"),
-            read_text_file(std::string(AIRTWIN_SOURCE_DIR) + "/models/data/default_field_table.csv"));
+  EXPECT_EQ(read_text_file(dir + "/t.csv"), read_text_file(std::string(AIRTWIN_SOURCE_DIR) +
+                                                           "/models/data/default_field_table.csv"));
   expect_failure("maketable --tilts 0,x --out " + dir + "/u.csv", 2, "--tilts");
   expect_failure("maketable --tilts 0,45 --out " + dir + "/u.csv", 1, "at least 3 tilts");
   std::filesystem::remove_all(dir);

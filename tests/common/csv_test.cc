@@ -20,7 +20,8 @@ std::string error_of(const std::string& text, std::vector<std::string> required,
 }
 
 TEST(Csv, ReadsColumnsInAnyOrderWithCommentsBlankLinesAndCrlf) {
-  const CsvTable t = CsvTable::parse("# a comment\r\nb, a\r\n\r\n2,1\r\n 4 ,3\n", "f.csv", {"a", "b"});
+  const CsvTable t =
+      CsvTable::parse("# a comment\r\nb, a\r\n\r\n2,1\r\n 4 ,3\n", "f.csv", {"a", "b"});
   ASSERT_EQ(t.rows(), 2u);
   EXPECT_EQ(t.number(0, "a"), 1);
   EXPECT_EQ(t.number(1, "b"), 4);

@@ -83,8 +83,8 @@ TEST(AirField, TiltIsClampedToTheFittedRange) {
   EXPECT_NEAR(f50.coefficient_tilt_rad(), deg_to_rad(45), 1e-15);
   EXPECT_GT((f50.stagnation_point() - f45.stagnation_point()).norm(), 0.1);
   const Eigen::Vector2d offset(0.3, -0.2);
-  EXPECT_NEAR(f50.speed(f50.stagnation_point() + offset), f45.speed(f45.stagnation_point() + offset),
-              1e-12);
+  EXPECT_NEAR(f50.speed(f50.stagnation_point() + offset),
+              f45.speed(f45.stagnation_point() + offset), 1e-12);
 }
 
 TEST(AirField, ZeroAtTheStagnationPoint) {
