@@ -1,0 +1,281 @@
+#include "models/sindy.h"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <unsupported/Eigen/LevenbergMarquardt>
+
+#include "common/errors.h"
+
+namespace airtwin {
+
+const std::array<const char*, kSindyTerms> kTermNames = {
+    "1", "v", "vair", "v^2", "v*vair", "vair^2", "v^3", "v^2*vair", "v*vair^2", "vair^3"};
+
+namespace {
+
+constexpr int kV = 1;  // index of the term v
+using Coefficients = Eigen::Matrix<double, kSindyTerms, 1>;
+
+Eigen::MatrixXd library(const Eigen::VectorXd& v, const Eigen::VectorXd& va) {
+  Eigen::MatrixXd X(v.size(), kSindyTerms);
+  for (Eigen::Index i = 0; i < v.size(); ++i) X.row(i) = sindy_library_row(v[i], va[i]);
+  return X;
+}
+
+// Ordinary least squares on the columns in `active` (others zero). Column-pivoting QR keeps
+// nearly collinear monomials from blowing up.
+Coefficients least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                           const std::vector<int>& active, bool robust, Eigen::VectorXd* w) {
+  Eigen::MatrixXd Xa(X.rows(), active.size());
+  for (size_t j = 0; j < active.size(); ++j) Xa.col(j) = X.col(active[j]);
+  const Eigen::VectorXd b = robust ? bisquare_fit(Xa, y, w) : Xa.colPivHouseholderQr().solve(y);
+  if (!robust && w) w->setOnes(X.rows());
+  Coefficients xi = Coefficients::Zero();
+  for (size_t j = 0; j < active.size(); ++j) xi[active[j]] = b[j];
+  return xi;
+}
+
+// Sequentially thresholded least squares (Brunton et al. 2016) with lambda on xi_d.
+Coefficients stlsq(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const SindyOptions& o,
+                   bool robust, Eigen::VectorXd* w) {
+  std::vector<int> active(kSindyTerms);
+  for (int j = 0; j < kSindyTerms; ++j) active[j] = j;
+  Coefficients xi = least_squares(X, y, active, robust, w);
+  for (int it = 0; it < o.max_stlsq_iterations; ++it) {
+    std::vector<int> keep;
+    for (int j : active)
+      if (std::abs(xi[j]) >= o.lambda) keep.push_back(j);
+    if (keep.size() == active.size()) break;
+    active = keep;
+    if (active.empty()) return Coefficients::Zero();
+    xi = least_squares(X, y, active, robust, w);
+  }
+  return xi;
+}
+
+double median(std::vector<double> x) {
+  AIRTWIN_DEMAND(!x.empty());
+  const size_t n = x.size(), m = n / 2;
+  std::nth_element(x.begin(), x.begin() + m, x.end());
+  if (n % 2) return x[m];
+  const double hi = x[m];
+  return 0.5 * (hi + *std::max_element(x.begin(), x.begin() + m));
+}
+
+// Residuals of the one-step flow for Levenberg-Marquardt over the continuous coefficients of the
+// support (the others stay zero).
+struct FlowFunctor : Eigen::DenseFunctor<double> {
+  const SpeedPairs& d;
+  const Eigen::VectorXd& sqrt_w;
+  std::vector<int> support;
+  FlowFunctor(const SpeedPairs& data, const Eigen::VectorXd& sw, std::vector<int> s)
+      : Eigen::DenseFunctor<double>(static_cast<int>(s.size()), static_cast<int>(data.size())),
+        d(data),
+        sqrt_w(sw),
+        support(std::move(s)) {}
+  Coefficients expand(const InputType& x) const {
+    Coefficients xi = Coefficients::Zero();
+    for (size_t j = 0; j < support.size(); ++j) xi[support[j]] = x[j];
+    return xi;
+  }
+  int operator()(const InputType& x, ValueType& f) const {
+    const Coefficients xi = expand(x);
+    for (size_t k = 0; k < d.size(); ++k) {
+      f[k] = sqrt_w[k] * (sindy_flow_step(xi, d.v[k], d.va[k], d.va_next[k], d.dt_s) - d.v_next[k]);
+    }
+    return 0;
+  }
+  // Forward differences on the coefficients (the flow is smooth in them).
+  int df(const InputType& x, JacobianType& J) const {
+    ValueType f0(values()), f1(values());
+    (*this)(x, f0);
+    for (Eigen::Index j = 0; j < x.size(); ++j) {
+      InputType xp = x;
+      const double h = 1e-7 * std::max(1.0, std::abs(x[j]));
+      xp[j] += h;
+      (*this)(xp, f1);
+      J.col(j) = (f1 - f0) / h;
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+Eigen::Matrix<double, 1, kSindyTerms> sindy_library_row(double v, double va) {
+  Eigen::Matrix<double, 1, kSindyTerms> r;
+  r << 1.0, v, va, v * v, v * va, va * va, v * v * v, v * v * va, v * va * va, va * va * va;
+  return r;
+}
+
+double sindy_rate(const Coefficients& xi, double v, double va) {
+  return sindy_library_row(v, va).dot(xi.transpose());
+}
+
+SindyMethod parse_sindy_method(const std::string& name) {
+  if (name == "stlsq") return SindyMethod::kStlsq;
+  if (name == "esindy") return SindyMethod::kEsindy;
+  if (name == "robust") return SindyMethod::kRobust;
+  if (name == "robust-esindy") return SindyMethod::kRobustEsindy;
+  throw UsageError("--method: expected stlsq, esindy, robust or robust-esindy, got '" + name + "'");
+}
+
+const char* sindy_method_name(SindyMethod m) {
+  switch (m) {
+    case SindyMethod::kStlsq:
+      return "stlsq";
+    case SindyMethod::kEsindy:
+      return "esindy";
+    case SindyMethod::kRobust:
+      return "robust";
+    case SindyMethod::kRobustEsindy:
+      return "robust-esindy";
+  }
+  return "?";
+}
+
+Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                             Eigen::VectorXd* weights_out) {
+  const Eigen::Index n = X.rows(), p = X.cols();
+  constexpr double kTune = 4.685;
+  // Leverages of the unweighted design: squared row norms of the thin Q.
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(X);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
+  const Eigen::VectorXd h = Q.rowwise().squaredNorm().cwiseMin(0.9999);
+  const Eigen::VectorXd adjust = (1.0 - h.array()).rsqrt().matrix();
+
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+  Eigen::VectorXd b = X.colPivHouseholderQr().solve(y);
+  for (int it = 0; it < 50; ++it) {
+    const Eigen::VectorXd r_adj = (y - X * b).cwiseProduct(adjust);
+    // Robust scale: median absolute adjusted residual, ignoring the p smallest (MATLAB madsigma).
+    std::vector<double> a(r_adj.size());
+    for (Eigen::Index i = 0; i < n; ++i) a[i] = std::abs(r_adj[i]);
+    std::sort(a.begin(), a.end());
+    std::vector<double> tail(a.begin() + std::min<Eigen::Index>(p, n - 1), a.end());
+    double s = median(tail) / 0.6745;
+    if (!(s > 0)) break;  // an exact fit: nothing to down-weight
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double u = r_adj[i] / (kTune * s);
+      w[i] = std::abs(u) < 1.0 ? (1 - u * u) * (1 - u * u) : 0.0;
+    }
+    const Eigen::VectorXd sw = w.cwiseSqrt();
+    const Eigen::VectorXd b_new =
+        (sw.asDiagonal() * X).colPivHouseholderQr().solve(sw.cwiseProduct(y));
+    const double change = (b_new - b).cwiseAbs().maxCoeff();
+    const double scale = std::max(b_new.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+    b = b_new;
+    if (change <= 1.5e-8 * scale) break;  // sqrt(eps), as robustfit
+  }
+  if (weights_out) *weights_out = w;
+  return b;
+}
+
+double sindy_flow_step(const Coefficients& xi, double v0, double va0, double va1, double dt_s,
+                       int substeps) {
+  const double h = dt_s / substeps;
+  double v = v0;
+  for (int i = 0; i < substeps; ++i) {
+    const double s0 = static_cast<double>(i) / substeps, s1 = static_cast<double>(i + 1) / substeps;
+    const double a0 = va0 + (va1 - va0) * s0, a1 = va0 + (va1 - va0) * s1, am = 0.5 * (a0 + a1);
+    const double k1 = sindy_rate(xi, v, a0);
+    const double k2 = sindy_rate(xi, v + 0.5 * h * k1, am);
+    const double k3 = sindy_rate(xi, v + 0.5 * h * k2, am);
+    const double k4 = sindy_rate(xi, v + h * k3, a1);
+    v += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  return v;
+}
+
+SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
+  const Eigen::Index n = d.v.size();
+  if (d.va.size() != n || d.v_next.size() != n || d.va_next.size() != n) {
+    throw InputError("identification: speed series of unequal lengths");
+  }
+  if (n < 2 * kSindyTerms) {
+    throw InputError("identification: " + std::to_string(n) + " usable speed pairs, at least " +
+                     std::to_string(2 * kSindyTerms) + " are needed for " +
+                     std::to_string(kSindyTerms) + " library terms");
+  }
+  if (!(d.v.allFinite() && d.va.allFinite() && d.v_next.allFinite() && d.va_next.allFinite()) ||
+      !(d.dt_s > 0)) {
+    throw InputError("identification: speed series contain non-finite values or dt <= 0");
+  }
+  if (!(o.lambda >= 0) || o.bootstraps < 1) {
+    throw UsageError("identification: lambda must be >= 0 and bootstraps >= 1");
+  }
+  const bool robust = o.method == SindyMethod::kRobust || o.method == SindyMethod::kRobustEsindy;
+  const bool ensemble = o.method == SindyMethod::kEsindy || o.method == SindyMethod::kRobustEsindy;
+  const Eigen::MatrixXd X = library(d.v, d.va);
+
+  SindyResult res;
+  res.weights = Eigen::VectorXd::Ones(n);
+  if (!ensemble) {
+    res.discrete = stlsq(X, d.v_next, o, robust, &res.weights);
+    for (int j = 0; j < kSindyTerms; ++j) res.inclusion[j] = res.discrete[j] != 0.0 ? 1.0 : 0.0;
+  } else {
+    // E-SINDy: bootstrap the rows, identify each, take the median per term.
+    std::mt19937_64 rng(o.seed);
+    std::uniform_int_distribution<Eigen::Index> pick(0, n - 1);
+    std::vector<std::vector<double>> samples(kSindyTerms);
+    Eigen::MatrixXd Xb(n, kSindyTerms);
+    Eigen::VectorXd yb(n);
+    for (int b = 0; b < o.bootstraps; ++b) {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Eigen::Index k = pick(rng);
+        Xb.row(i) = X.row(k);
+        yb[i] = d.v_next[k];
+      }
+      const Coefficients xi = stlsq(Xb, yb, o, robust, nullptr);
+      for (int j = 0; j < kSindyTerms; ++j) samples[j].push_back(xi[j]);
+    }
+    for (int j = 0; j < kSindyTerms; ++j) {
+      res.discrete[j] = median(samples[j]);
+      res.inclusion[j] =
+          std::count_if(samples[j].begin(), samples[j].end(), [](double x) { return x != 0.0; }) /
+          static_cast<double>(o.bootstraps);
+    }
+    // Robust weights of the ensemble's model on the whole data set, for the conversion below.
+    if (robust) {
+      std::vector<int> active;
+      for (int j = 0; j < kSindyTerms; ++j)
+        if (res.discrete[j] != 0.0) active.push_back(j);
+      if (!active.empty()) least_squares(X, d.v_next, active, true, &res.weights);
+    }
+  }
+
+  // Continuous time: forward-difference reading as the start, then exact one-step flow matching.
+  std::vector<int> support;
+  for (int j = 0; j < kSindyTerms; ++j)
+    if (res.discrete[j] != 0.0 || j == kV) support.push_back(j);
+  Coefficients start = res.discrete;
+  start[kV] -= 1.0;
+  start /= d.dt_s;
+  const Eigen::VectorXd sqrt_w = res.weights.cwiseSqrt();
+  FlowFunctor functor(d, sqrt_w, support);
+  Eigen::VectorXd x(support.size());
+  for (size_t j = 0; j < support.size(); ++j) x[j] = start[support[j]];
+  Eigen::LevenbergMarquardt<FlowFunctor> lm(functor);
+  lm.setXtol(1e-12);
+  lm.setFtol(1e-14);
+  lm.setMaxfev(400);
+  lm.minimize(x);
+  res.continuous = x.allFinite() ? functor.expand(x) : start;
+
+  // R^2 of the one-step speed change under the continuous model, over all pairs.
+  double ss_res = 0, ss_tot = 0;
+  const double mean = (d.v_next - d.v).mean();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double dv = d.v_next[k] - d.v[k];
+    const double pred =
+        sindy_flow_step(res.continuous, d.v[k], d.va[k], d.va_next[k], d.dt_s) - d.v[k];
+    ss_res += (dv - pred) * (dv - pred);
+    ss_tot += (dv - mean) * (dv - mean);
+  }
+  res.r2 = ss_tot > 0 ? 1.0 - ss_res / ss_tot : 0.0;
+  return res;
+}
+
+}  // namespace airtwin
