@@ -1,0 +1,54 @@
+#pragma once
+// From trajectories to the speed pairs SINDy regresses on (Appendix D), with a defence against
+// detection glitches.
+//
+// Steps, per trajectory:
+//  1. Glitch repair. A wrong position in one frame corrupts two consecutive central-difference
+//     speeds and puts the outlier in the regressors, where bisquare weighting cannot help (the
+//     leverage is high). Positions are therefore checked before differencing: each frame is
+//     compared with a quadratic in time through its neighbours within +-3 frames, chosen by least
+//     median of squares among all 3-frame subsets, so one or two glitched neighbours cannot spoil
+//     it; smooth motion follows such a quadratic to well under a millimetre at 40 Hz, a glitch of
+//     1-3 cm does not. Threshold: max(glitch_floor_m, 6 x the trajectory's robust scale of the
+//     misfit). Flagged frames are replaced by the quadratic's value. Every repair is counted.
+//  2. Speeds by central differences, v_k = |p_{k+1} - p_{k-1}| / (2 dt) (Appendix D).
+//  3. Air speed at p_k from the field model under the nozzle command in force at frame k.
+//  4. Pairs (k, k+1) whose speeds are both above the stationary threshold (objects at rest are
+//     dropped: dry friction is discontinuous at zero speed), counted in n_dropped.
+// All trajectories must share one frame interval (within 1%); the data set's dt is their median.
+
+#include <string>
+
+#include "models/air_field.h"
+#include "models/sindy.h"
+#include "models/trajectory_data.h"
+
+namespace airtwin {
+
+struct SpeedPairOptions {
+  bool repair_glitches = true;
+  double glitch_floor_m = 0.008;        ///< smallest position jump taken for a glitch
+  double stationary_speed_mps = 0.005;  ///< speeds below this count as at rest
+};
+
+struct SpeedPairReport {
+  size_t n_trajectories = 0;
+  size_t n_frames = 0;
+  size_t n_samples = 0;  ///< speed samples computed (interior frames)
+  size_t n_pairs = 0;    ///< pairs kept for regression
+  size_t n_dropped = 0;  ///< speed samples dropped as stationary
+  size_t n_glitches_repaired = 0;
+  size_t n_short_trajectories = 0;  ///< fewer than 4 frames: no pair possible
+};
+
+/// Builds the regression pairs for trajectories of one object type. Throws InputError when the
+/// frame interval differs between or within trajectories by more than 1%.
+SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFieldModel& field,
+                                         const SpeedPairOptions& options, SpeedPairReport* report);
+
+/// Repairs position glitches of one trajectory in place (step 1 above); returns the repaired
+/// frame indices, in increasing order.
+std::vector<size_t> repair_position_glitches(std::vector<TrajectorySample>* samples,
+                                             double floor_m);
+
+}  // namespace airtwin
