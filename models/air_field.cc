@@ -46,6 +46,12 @@ OrientedField AirFieldModel::at(const NozzleOrientation& o) const {
                      std::to_string(rad_to_deg(o.pan_rad)) + " deg, tilt " +
                      std::to_string(rad_to_deg(o.tilt_rad)) + " deg");
   }
+  if (o.tilt_rad >= fold_tilt_rad(geometry_)) {
+    throw InputError("nozzle orientation: tilt " + std::to_string(rad_to_deg(o.tilt_rad)) +
+                     " deg is at or beyond the fold of eq. (2) at " +
+                     std::to_string(rad_to_deg(fold_tilt_rad(geometry_))) +
+                     " deg, where the stagnation-point model is not defined");
+  }
   OrientedField f;
   f.orientation_ = o;
   f.cos_pan_ = std::cos(o.pan_rad);

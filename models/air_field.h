@@ -77,8 +77,8 @@ class AirFieldModel {
   const NozzleGeometry& geometry() const { return geometry_; }
   const FieldTable& table() const { return table_; }
 
-  /// The field for one orientation (pan, tilt in rad; tilt must be finite and in [0, 90) deg,
-  /// otherwise InputError).
+  /// The field for one orientation (pan, tilt in rad). Throws InputError unless pan is finite and
+  /// tilt in [0, fold_tilt_rad(geometry)) (64.4 deg: beyond it eq. (2) is not meaningful).
   OrientedField at(const NozzleOrientation& o) const;
 
   /// Convenience: velocity (m/s) at p_W (m) for orientation o. Prefer at() for many points.

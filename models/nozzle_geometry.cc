@@ -55,6 +55,10 @@ Eigen::Vector2d stagnation_point(const NozzleGeometry& g, const NozzleOrientatio
   return rho_s * Eigen::Vector2d(std::cos(o.pan_rad), std::sin(o.pan_rad));
 }
 
+double fold_tilt_rad(const NozzleGeometry& g) {
+  return std::atan(fold_radius(g) / g.height_m);  // atan(inf) = pi/2
+}
+
 double max_stagnation_radius(const NozzleGeometry& g) {
   return stagnation_radius(g, g.height_m * std::tan(g.tilt_max_rad));
 }

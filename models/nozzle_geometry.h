@@ -43,6 +43,11 @@ double stagnation_radius(const NozzleGeometry& g, double projection_radius_m);
 /// eq. (1) then eq. (2): the stagnation point s in W (metres).
 Eigen::Vector2d stagnation_point(const NozzleGeometry& g, const NozzleOrientation& o);
 
+/// The tilt (rad) at eq. (2)'s fold, where |s| stops growing with |c| (64.4 deg for the paper's
+/// constants); beyond it eq. (2) would move s back toward, and past, the origin, so the field
+/// model is not defined there. pi/2 when a1 = 0.
+double fold_tilt_rad(const NozzleGeometry& g);
+
 /// Largest |s| the geometry can reach within its tilt range (metres).
 double max_stagnation_radius(const NozzleGeometry& g);
 

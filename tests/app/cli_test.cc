@@ -45,6 +45,7 @@ TEST(Cli, UsageErrorsExitTwoWithOneLine) {
   expect_failure("field --pan abc --tilt 10 --out x.csv", 2, "--pan");
   expect_failure("field --pan 0 --tilt nan --out x.csv", 2, "--tilt");
   expect_failure("field --pan 0 --tilt 95 --out x.csv", 2, "--tilt");
+  expect_failure("field --pan 30 --tilt 80 --out x.csv", 2, "fold");
   expect_failure("field --pan 0 --tilt 10 --step -1 --out x.csv", 2, "--step");
   expect_failure("field --pan 0 --tilt 10 --extent 2 --step 0.0001 --out x.csv", 2, "--step");
   expect_failure("aim --stagnation '1;2'", 2, "--stagnation");

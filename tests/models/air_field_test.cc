@@ -200,6 +200,10 @@ TEST(AirField, RejectsInvalidOrientation) {
   EXPECT_THROW(model.at({0.0, deg_to_rad(90)}), InputError);
   EXPECT_THROW(model.at({0.0, -0.1}), InputError);
   EXPECT_THROW(model.at({NAN, 0.1}), InputError);
+  // Beyond eq. (2)'s fold (64.4 deg) s would land on the far side of the origin.
+  EXPECT_NO_THROW(model.at({0.0, deg_to_rad(64.0)}));
+  EXPECT_THROW(model.at({0.0, deg_to_rad(65.0)}), InputError);
+  EXPECT_NEAR(rad_to_deg(fold_tilt_rad(model.geometry())), 64.44008882357566, 1e-9);
 }
 
 }  // namespace
