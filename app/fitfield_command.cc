@@ -1,5 +1,195 @@
-// PLACEHOLDER (being implemented): airtwin fitfield
+// airtwin fitfield: Appendix C. Fits the eq. (3) coefficient table to a measured (hot-wire) grid,
+// optionally fused with a CFD grid, writes the table CSV and prints a JSON report of how well the
+// fitted model agrees with each source (models/field_fit.h, docs/field_fitting.md).
+
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/cli_common.h"
 #include "app/commands.h"
+#include "common/errors.h"
+#include "common/units.h"
+#include "models/field_fit.h"
+#include "models/field_grid.h"
+
 namespace airtwin::cli {
-void add_fitfield_command(CLI::App& app) { app.add_subcommand("fitfield", "(in progress)"); }
+namespace {
+
+struct FitFieldArgs {
+  std::string grid;
+  std::string cfd;
+  std::string out;
+  FieldFitOptions options;
+};
+
+// A number for the report, rounded to `decimals`; NaN (nothing to measure) becomes null.
+nlohmann::ordered_json number(double v, int decimals) {
+  if (!std::isfinite(v)) return nullptr;
+  const double scale = std::pow(10.0, decimals);
+  return std::round(v * scale) / scale;
+}
+
+nlohmann::ordered_json report_json(const FitFieldArgs& a, const FieldFitResult& fit) {
+  using json = nlohmann::ordered_json;
+  const FieldFitOptions& o = a.options;
+  json tilts = json::array(), mape_grid = json::array(), mape_cfd = json::array();
+  json n_grid = json::array(), n_cfd = json::array(), nm_grid = json::array(),
+       nm_cfd = json::array();
+  json rmse_grid = json::array(), rmse_cfd = json::array(), angle = json::array(),
+       n_angle = json::array(), bins = json::array(), start = json::array();
+  json iterations = json::array(), evaluations = json::array(), status = json::array(),
+       converged = json::array(), warnings = json::array();
+  for (const TiltFitReport& r : fit.tilts) {
+    const double tilt_deg = rad_to_deg(r.tilt_rad);
+    tilts.push_back(number(tilt_deg, 6));
+    mape_grid.push_back(number(r.grid.mape_pct, 4));
+    mape_cfd.push_back(number(r.cfd.mape_pct, 4));
+    n_grid.push_back(r.grid.n_samples);
+    n_cfd.push_back(r.cfd.n_samples);
+    nm_grid.push_back(r.grid.n_mape_samples);
+    nm_cfd.push_back(r.cfd.n_mape_samples);
+    rmse_grid.push_back(number(r.grid.rmse_mps, 6));
+    rmse_cfd.push_back(number(r.cfd.rmse_mps, 6));
+    angle.push_back(number(r.cfd_direction_error_deg, 4));
+    n_angle.push_back(r.n_direction_samples);
+    bins.push_back(r.alpha_bins_with_data);
+    start.push_back({{"b1", number(r.start_profile.b1, 8)},
+                     {"b2", number(r.start_profile.b2, 8)},
+                     {"b3", number(r.start_profile.b3, 8)}});
+    iterations.push_back(r.lm_iterations);
+    evaluations.push_back(r.lm_evaluations);
+    status.push_back(r.lm_status);
+    converged.push_back(r.lm_converged);
+
+    // What a reader of the table should know about this tilt.
+    char w[256];
+    if (!r.lm_converged) {
+      std::snprintf(w, sizeof w, "tilt %g deg: the optimiser stopped before converging (%s)",
+                    tilt_deg, r.lm_status.c_str());
+      warnings.push_back(w);
+    }
+    if (r.grid.n_samples == 0 || (!a.cfd.empty() && r.cfd.n_samples == 0)) {
+      std::snprintf(w, sizeof w, "tilt %g deg: only the %s covers this tilt, no fusion", tilt_deg,
+                    r.grid.n_samples == 0 ? "CFD" : "measured grid");
+      warnings.push_back(w);
+    }
+    if (r.alpha_bins_with_data < FieldTable::kAlphaBins * 9 / 10) {
+      std::snprintf(w, sizeof w,
+                    "tilt %g deg: %d of 360 one-degree directions hold no sample; their "
+                    "coefficients follow from the neighbouring directions",
+                    tilt_deg, FieldTable::kAlphaBins - r.alpha_bins_with_data);
+      warnings.push_back(w);
+    }
+  }
+  char mape_text[200];
+  std::snprintf(mape_text, sizeof mape_text,
+                "mean of |v_model - v| / v * 100 over samples with data speed v >= %g m/s (the "
+                "hot-wire's lower detection limit); v_model is the written table evaluated by "
+                "the air-field model",
+                o.mape_min_speed_mps);
+  char angle_text[200];
+  std::snprintf(angle_text, sizeof angle_text,
+                "mean angle between the CFD velocity (vx, vy) and the model's radial direction "
+                "from s, over CFD samples with |(vx, vy)| >= %g m/s",
+                o.mape_min_speed_mps);
+  return {
+      {"command", "fitfield"},
+      {"inputs", {{"grid", a.grid}, {"cfd", a.cfd.empty() ? json(nullptr) : json(a.cfd)}}},
+      {"out", a.out},
+      {"tilts_deg", tilts},
+      {"n_points", {{"grid", n_grid}, {"cfd", n_cfd}}},
+      {"mape_pct", {{"grid", mape_grid}, {"cfd", mape_cfd}}},
+      {"n_mape_points", {{"grid", nm_grid}, {"cfd", nm_cfd}}},
+      {"mape_min_speed_mps", o.mape_min_speed_mps},
+      {"mape_definition", mape_text},
+      {"rmse_mps", {{"grid", rmse_grid}, {"cfd", rmse_cfd}}},
+      {"cfd_direction_error_deg", angle},
+      {"n_direction_points", n_angle},
+      {"direction_definition", angle_text},
+      {"alpha_bins_with_data", bins},
+      {"fusion",
+       {{"cfd_weight", "L^2 / (L^2 + r^2) / N_cfd"},
+        {"grid_weight", "r^2 / (L^2 + r^2) / N_grid"},
+        {"r", "distance from the stagnation point s (m)"},
+        {"N", "samples of that source at that tilt"},
+        {"length_m", o.fusion_length_m}}},
+      {"smoothing_deg", o.smoothing_deg},
+      {"start_profile", start},
+      {"optimizer",
+       {{"method",
+         "Eigen LevenbergMarquardt, sparse Jacobian (SparseQR), 1080 parameters per tilt"},
+        {"iterations", iterations},
+        {"evaluations", evaluations},
+        {"status", status},
+        {"converged", converged}}},
+      {"warnings", warnings},
+  };
+}
+
+void run_fitfield(FitFieldArgs a) {
+  FieldFitOptions& o = a.options;
+  require_range(o.fusion_length_m, 1e-3, 100, "--fusion-length", "a length in [0.001, 100] m");
+  require_range(o.smoothing_deg, 1, 180, "--smoothing", "an angle in [1, 180] deg");
+  require_range(o.mape_min_speed_mps, 0, 100, "--mape-min-speed", "a speed in [0, 100] m/s");
+  require_range(o.threads, 0, 256, "--threads", "a thread count in [0, 256] (0: all cores)");
+  require_range(o.max_evaluations, 1, 100000, "--max-evaluations", "a count in [1, 100000]");
+
+  const FieldGrid grid = load_field_grid(a.grid, GridKind::kMeasured);
+  FieldGrid cfd;
+  if (!a.cfd.empty()) cfd = load_field_grid(a.cfd, GridKind::kSimulated);
+  ensure_parent_dir(a.out);
+
+  const FieldFitResult fit = fit_field_table(grid, a.cfd.empty() ? nullptr : &cfd, o);
+  fit.table.save_csv(a.out);
+  // One top-level key per line, each value compact: readable, and still plain JSON.
+  const nlohmann::ordered_json report = report_json(a, fit);
+  std::string text = "{\n";
+  for (auto it = report.begin(); it != report.end(); ++it) {
+    text += "  " + nlohmann::json(it.key()).dump() + ": " + it.value().dump();
+    text += std::next(it) == report.end() ? "\n" : ",\n";
+  }
+  std::printf("%s}\n", text.c_str());
+}
+
+}  // namespace
+
+void add_fitfield_command(CLI::App& app) {
+  auto args = std::make_shared<FitFieldArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "fitfield",
+      "Fit the eq. (3) coefficient table (Appendix C) to a measured air-speed grid, optionally\n"
+      "fused with a CFD grid: CFD dominates near the stagnation point s, the measurements far\n"
+      "from it. Every sample carries its own pan and tilt; each tilt in the data becomes a table\n"
+      "tilt (at least 3). Writes the table CSV (tilt_deg,alpha_deg,b1,b2,b3) and prints a JSON\n"
+      "report: MAPE per tilt against each source, CFD direction vs the model's radial direction.\n"
+      "Method and file formats: docs/field_fitting.md.");
+  sub->add_option("--grid", args->grid,
+                  "Measured grid CSV: pan_deg,tilt_deg,x,y,speed (deg, m, m/s)")
+      ->required();
+  sub->add_option("--cfd", args->cfd,
+                  "CFD grid CSV: pan_deg,tilt_deg,x,y,speed,vx,vy (deg, m, m/s)");
+  sub->add_option("--out", args->out, "Output coefficient table CSV")->required();
+  FieldFitOptions& o = args->options;
+  sub->add_option("--fusion-length", o.fusion_length_m,
+                  "L (m): CFD weight L^2/(L^2+r^2), grid weight r^2/(L^2+r^2) at distance r "
+                  "from s")
+      ->capture_default_str();
+  sub->add_option("--smoothing", o.smoothing_deg,
+                  "Angular smoothing (deg): coefficient ripples shorter than this are smoothed")
+      ->capture_default_str();
+  sub->add_option("--mape-min-speed", o.mape_min_speed_mps,
+                  "MAPE and direction statistics count samples with speed >= this (m/s)")
+      ->capture_default_str();
+  sub->add_option("--threads", o.threads, "Tilts fitted in parallel (0: one per core)")
+      ->capture_default_str();
+  sub->add_option("--max-evaluations", o.max_evaluations,
+                  "Levenberg-Marquardt function evaluations per tilt")
+      ->capture_default_str();
+  sub->callback([args] { run_fitfield(*args); });
+}
+
 }  // namespace airtwin::cli
