@@ -137,6 +137,7 @@ void run_fitfield(FitFieldArgs a) {
   require_range(o.mape_min_speed_mps, 0, 100, "--mape-min-speed", "a speed in [0, 100] m/s");
   require_range(o.threads, 0, 256, "--threads", "a thread count in [0, 256] (0: all cores)");
   require_range(o.max_evaluations, 1, 100000, "--max-evaluations", "a count in [1, 100000]");
+  require_range(o.time_budget_s, 0.01, 86400, "--time-budget", "seconds in [0.01, 86400]");
 
   const FieldGrid grid = load_field_grid(a.grid, GridKind::kMeasured);
   FieldGrid cfd;
@@ -188,6 +189,9 @@ void add_fitfield_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--max-evaluations", o.max_evaluations,
                   "Levenberg-Marquardt function evaluations per tilt")
+      ->capture_default_str();
+  sub->add_option("--time-budget", o.time_budget_s,
+                  "Seconds per tilt; a fit that runs out keeps its best answer and warns")
       ->capture_default_str();
   sub->callback([args] { run_fitfield(*args); });
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -379,11 +380,23 @@ TiltFit fit_tilt(const TiltSamples& samples, const FieldFitOptions& o) {
   RingFunctor functor(problem);
   Eigen::LevenbergMarquardt<RingFunctor> lm(functor);
   lm.setMaxfev(o.max_evaluations);
-  const Eigen::LevenbergMarquardtSpace::Status status = lm.minimize(x);
+  // Step by step, so that a fit that runs out of its time budget keeps the best answer so far
+  // (LevenbergMarquardt accepts only steps that lower the cost).
+  using Status = Eigen::LevenbergMarquardtSpace::Status;
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(o.time_budget_s);
+  Status status = lm.minimizeInit(x);
+  if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters) {
+    do {
+      status = lm.minimizeOneStep(x);
+    } while (status == Eigen::LevenbergMarquardtSpace::Running &&
+             std::chrono::steady_clock::now() < deadline);
+  }
+  const bool out_of_time = status == Eigen::LevenbergMarquardtSpace::Running;
   out.report.lm_iterations = static_cast<int>(lm.njev());
   out.report.lm_evaluations = static_cast<int>(lm.nfev());
-  out.report.lm_status = status_text(status);
-  out.report.lm_converged = lm.info() == Eigen::Success &&
+  out.report.lm_status = out_of_time ? "stopped: time budget exhausted" : status_text(status);
+  out.report.lm_converged = !out_of_time && lm.info() == Eigen::Success &&
                             status != Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation;
   // A profile far outside any physical range means the data are not eq. (3)-shaped.
   out.ring = RingFunctor::profiles(x);
@@ -452,6 +465,7 @@ void FieldFitOptions::validate() const {
     bad("mape_min_speed_mps must be >= 0, got " + std::to_string(mape_min_speed_mps));
   }
   if (max_evaluations < 1) bad("max_evaluations must be >= 1");
+  if (!(time_budget_s > 0)) bad("time_budget_s must be > 0");
   if (threads < 0) bad("threads must be >= 0");
 }
 

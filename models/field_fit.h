@@ -47,8 +47,11 @@ struct FieldFitOptions {
   double fusion_length_m = 0.3;     ///< L: CFD and grid weigh equally at r = L (m)
   double smoothing_deg = 20.0;      ///< ripples shorter than this (deg) are smoothed, longer fitted
   double mape_min_speed_mps = 0.1;  ///< MAPE counts data speeds >= this (hot-wire limit), m/s
-  int max_evaluations = 400;        ///< LevenbergMarquardt function evaluations per tilt
-  int threads = 0;                  ///< tilts fitted concurrently; 0: one per hardware thread
+  int max_evaluations = 200;        ///< LevenbergMarquardt function evaluations per tilt
+  /// Wall-clock budget per tilt (s); a fit that runs out keeps its best answer so far and reports
+  /// lm_converged = false. Data that fit eq. (3) converge in a few seconds at most.
+  double time_budget_s = 30.0;
+  int threads = 0;  ///< tilts fitted concurrently; 0: one per hardware thread
 
   /// Throws InputError naming the option when a value is out of range.
   void validate() const;
@@ -82,7 +85,7 @@ struct TiltFitReport {
   int lm_iterations = 0;
   int lm_evaluations = 0;
   std::string lm_status;      ///< Eigen's termination reason, in words
-  bool lm_converged = false;  ///< false when the evaluation budget ran out
+  bool lm_converged = false;  ///< false when the evaluation or time budget ran out
 };
 
 struct FieldFitResult {

@@ -277,6 +277,43 @@ TEST(FieldFit, GridAloneIsEnoughFarFromS) {
   }
 }
 
+// MAPE (%) of `table` against the samples of `grid` with speed >= 0.1 m/s at tilt index `t`.
+double mape_pct(const FieldTable& table, const FieldGrid& grid, size_t t) {
+  const AirFieldModel model(NozzleGeometry{}, table);
+  double sum = 0.0;
+  int n = 0;
+  for (const FieldSample& s : grid.samples) {
+    if (std::abs(s.orientation.tilt_rad - table.tilts_rad()[t]) > 1e-12 || s.speed_mps < 0.1) {
+      continue;
+    }
+    sum += std::abs(model.at(s.orientation).speed(s.p_W) / s.speed_mps - 1.0);
+    ++n;
+  }
+  return 100.0 * sum / n;
+}
+
+TEST(FieldFit, OutOfTimeKeepsTheBestAnswerSoFar) {
+  const FieldGrid grid = sample_grid(truth(), 90, 11, GridKind::kMeasured, "grid.csv");
+  const FieldGrid cfd = sample_grid(truth(), 90, 21, GridKind::kSimulated, "cfd.csv");
+  FieldFitOptions o;
+  o.time_budget_s = 1e-9;  // one LevenbergMarquardt step
+  const FieldFitResult fit = fit_field_table(grid, &cfd, o);
+  // The alpha-independent start profiles as a table.
+  std::vector<std::array<FieldCoefficients, FieldTable::kAlphaBins>> blocks(3);
+  for (size_t t = 0; t < 3; ++t) blocks[t].fill(fit.tilts[t].start_profile);
+  const FieldTable start(fit.table.tilts_rad(), std::move(blocks));
+  for (size_t t = 0; t < 3; ++t) {
+    const TiltFitReport& r = fit.tilts[t];
+    EXPECT_FALSE(r.lm_converged);
+    EXPECT_NE(r.lm_status.find("time budget"), std::string::npos) << r.lm_status;
+    EXPECT_EQ(r.lm_iterations, 1);
+    // The answer so far is a usable table, and better than the start.
+    EXPECT_NEAR(r.cfd.mape_pct, mape_pct(fit.table, cfd, t), 1e-9);
+    EXPECT_LT(r.cfd.mape_pct, mape_pct(start, cfd, t)) << "tilt " << t;
+  }
+  EXPECT_NO_THROW(FieldTable::parse_csv(fit.table.to_csv(), "partial"));
+}
+
 // ---- Malformed input: an InputError naming the file, never a crash ---------------------------
 
 // Expects `f` to throw an InputError whose one-line message contains every fragment.
