@@ -10,5 +10,6 @@ void add_field_command(CLI::App& app);      // eq. (1)-(3) field on a grid: CSV 
 void add_aim_command(CLI::App& app);        // desired stagnation point -> (pan, tilt)
 void add_fitfield_command(CLI::App& app);   // Appendix C: fit the coefficient table to grids
 void add_maketable_command(CLI::App& app);  // construct the default table from wall-jet physics
+void add_identify_command(CLI::App& app);   // section IV: SINDy on trajectories -> model.json
 
 }  // namespace airtwin::cli

@@ -6,7 +6,8 @@
 // monomial of (v, va) up to degree 3, ten terms in the order of kTermNames. The regression is in
 // discrete time, as the paper does (eq. 6): target v_{k+1}, regressors Theta(v_k, va_k),
 // sequentially thresholded least squares with lambda applied to the discrete coefficients (at
-// 40 Hz they are dt times the continuous ones, so lambda = 0.07 keeps the tracer's true terms).
+// 40 Hz they are dt times the continuous ones, so lambda = 0.07 keeps the tracer's true terms),
+// one term removed per round (the weakest under lambda; see sindy.cc for why).
 // Options: E-SINDy (bootstraps of the rows, median of the coefficients, inclusion probabilities)
 // and bisquare-weighted IRLS for every least-squares solve (MATLAB robustfit's definition).
 //
@@ -49,7 +50,6 @@ struct SindyOptions {
   double lambda = 0.07;  ///< threshold on discrete-time coefficients
   int bootstraps = 15;
   std::uint64_t seed = 1;
-  int max_stlsq_iterations = 10;
 };
 
 struct SindyResult {

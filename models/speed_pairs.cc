@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "models/savitzky_golay.h"
 
 namespace airtwin {
 namespace {
@@ -52,6 +53,56 @@ Eigen::Vector2d robust_prediction(const std::vector<TrajectorySample>& s, size_t
   return best;
 }
 
+// Collects regression pairs from speed series, one moving stretch at a time.
+struct PairBuilder {
+  std::vector<double> v, va, vn, van;
+
+  // Splits a series into runs of consecutive moving samples (speed >= the stationary threshold),
+  // smooths each run on its own (so no stop or start is smeared into the motion), and keeps the
+  // pairs (k, k+1) inside a run whose smoothed speeds stay above the threshold.
+  void add_series(std::span<const double> speed, std::span<const double> air,
+                  const SpeedPairOptions& o, SpeedPairReport* rep) {
+    const size_t n = speed.size();
+    rep->n_samples += n;
+    size_t k = 0;
+    while (k < n) {
+      if (speed[k] < o.stationary_speed_mps) {
+        ++rep->n_dropped;
+        ++k;
+        continue;
+      }
+      size_t end = k;
+      while (end < n && speed[end] >= o.stationary_speed_mps) ++end;
+      const std::vector<double> smooth =
+          savitzky_golay(speed.subspan(k, end - k), o.smoothing_half_window, o.smoothing_order);
+      for (size_t i = 0; i < smooth.size(); ++i) {
+        if (smooth[i] < o.stationary_speed_mps) ++rep->n_dropped;
+      }
+      for (size_t i = 0; i + 1 < smooth.size(); ++i) {
+        if (smooth[i] < o.stationary_speed_mps || smooth[i + 1] < o.stationary_speed_mps) continue;
+        v.push_back(smooth[i]);
+        va.push_back(air[k + i]);
+        vn.push_back(smooth[i + 1]);
+        van.push_back(air[k + i + 1]);
+      }
+      k = end;
+    }
+  }
+
+  SpeedPairs finish(double dt_s) {
+    SpeedPairs d;
+    d.dt_s = dt_s;
+    auto map = [](std::vector<double>& x) {
+      return Eigen::Map<Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    };
+    d.v = map(v);
+    d.va = map(va);
+    d.v_next = map(vn);
+    d.va_next = map(van);
+    return d;
+  }
+};
+
 }  // namespace
 
 std::vector<size_t> repair_position_glitches(std::vector<TrajectorySample>* samples,
@@ -95,7 +146,7 @@ SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFiel
     }
   }
 
-  std::vector<double> v, va, vn, van;
+  PairBuilder pairs;
   for (const Trajectory& tr : set.trajectories) {
     ++rep.n_trajectories;
     rep.n_frames += tr.samples.size();
@@ -109,30 +160,28 @@ SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFiel
     }
     // Central-difference speeds and the air speed at each interior frame.
     const size_t n = s.size();
-    std::vector<double> speed(n, 0.0), air(n, 0.0);
+    std::vector<double> speed(n - 2), air(n - 2);
     for (size_t k = 1; k + 1 < n; ++k) {
-      speed[k] = (s[k + 1].p_W - s[k - 1].p_W).norm() / (2.0 * dt);
-      air[k] = field.at(s[k].nozzle).speed(s[k].p_W);
-      ++rep.n_samples;
-      if (speed[k] < o.stationary_speed_mps) ++rep.n_dropped;
+      speed[k - 1] = (s[k + 1].p_W - s[k - 1].p_W).norm() / (2.0 * dt);
+      air[k - 1] = field.at(s[k].nozzle).speed(s[k].p_W);
     }
-    for (size_t k = 1; k + 2 < n; ++k) {
-      if (speed[k] < o.stationary_speed_mps || speed[k + 1] < o.stationary_speed_mps) continue;
-      v.push_back(speed[k]);
-      va.push_back(air[k]);
-      vn.push_back(speed[k + 1]);
-      van.push_back(air[k + 1]);
-    }
+    pairs.add_series(speed, air, o, &rep);
   }
-  SpeedPairs d;
-  d.dt_s = dt;
-  d.v = Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-  d.va = Eigen::Map<Eigen::VectorXd>(va.data(), static_cast<Eigen::Index>(va.size()));
-  d.v_next = Eigen::Map<Eigen::VectorXd>(vn.data(), static_cast<Eigen::Index>(vn.size()));
-  d.va_next = Eigen::Map<Eigen::VectorXd>(van.data(), static_cast<Eigen::Index>(van.size()));
-  rep.n_pairs = v.size();
+  rep.n_pairs = pairs.v.size();
   if (report) *report = rep;
-  return d;
+  return pairs.finish(dt);
+}
+
+SpeedPairs speed_pairs_from_series(const SpeedSeries& series, const SpeedPairOptions& o,
+                                   SpeedPairReport* report) {
+  SpeedPairReport rep;
+  rep.n_trajectories = 1;
+  rep.n_frames = series.size();
+  PairBuilder pairs;
+  pairs.add_series(series.v_mps, series.vair_mps, o, &rep);
+  rep.n_pairs = pairs.v.size();
+  if (report) *report = rep;
+  return pairs.finish(series.dt_s);
 }
 
 }  // namespace airtwin

@@ -13,14 +13,19 @@
 //     misfit). Flagged frames are replaced by the quadratic's value. Every repair is counted.
 //  2. Speeds by central differences, v_k = |p_{k+1} - p_{k-1}| / (2 dt) (Appendix D).
 //  3. Air speed at p_k from the field model under the nozzle command in force at frame k.
-//  4. Pairs (k, k+1) whose speeds are both above the stationary threshold (objects at rest are
-//     dropped: dry friction is discontinuous at zero speed), counted in n_dropped.
+//  4. Stationary samples dropped (speed below the threshold: dry friction is discontinuous at zero
+//     speed), counted in n_dropped. What remains splits into runs of consecutive moving samples.
+//  5. Each run's speeds smoothed on their own by Savitzky-Golay (models/savitzky_golay.h: cubic
+//     over +-4 samples by default), against the errors-in-variables bias of noisy speeds in the
+//     regressors. Pairs (k, k+1) inside a run whose smoothed speeds are both above the threshold.
+// The same steps 4-5 apply to a speed series (`airtwin identify --series`).
 // All trajectories must share one frame interval (within 1%); the data set's dt is their median.
 
 #include <string>
 
 #include "models/air_field.h"
 #include "models/sindy.h"
+#include "models/speed_series.h"
 #include "models/trajectory_data.h"
 
 namespace airtwin {
@@ -29,6 +34,8 @@ struct SpeedPairOptions {
   bool repair_glitches = true;
   double glitch_floor_m = 0.008;        ///< smallest position jump taken for a glitch
   double stationary_speed_mps = 0.005;  ///< speeds below this count as at rest
+  int smoothing_half_window = 4;        ///< Savitzky-Golay half window (samples); 0: none
+  int smoothing_order = 3;              ///< Savitzky-Golay polynomial degree
 };
 
 struct SpeedPairReport {
@@ -36,7 +43,7 @@ struct SpeedPairReport {
   size_t n_frames = 0;
   size_t n_samples = 0;  ///< speed samples computed (interior frames)
   size_t n_pairs = 0;    ///< pairs kept for regression
-  size_t n_dropped = 0;  ///< speed samples dropped as stationary
+  size_t n_dropped = 0;  ///< speed samples dropped as stationary (raw or after smoothing)
   size_t n_glitches_repaired = 0;
   size_t n_short_trajectories = 0;  ///< fewer than 4 frames: no pair possible
 };
@@ -45,6 +52,10 @@ struct SpeedPairReport {
 /// frame interval differs between or within trajectories by more than 1%.
 SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFieldModel& field,
                                          const SpeedPairOptions& options, SpeedPairReport* report);
+
+/// Builds the regression pairs of one speed series (steps 4-5 above).
+SpeedPairs speed_pairs_from_series(const SpeedSeries& series, const SpeedPairOptions& options,
+                                   SpeedPairReport* report);
 
 /// Repairs position glitches of one trajectory in place (step 1 above); returns the repaired
 /// frame indices, in increasing order.

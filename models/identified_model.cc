@@ -1,0 +1,168 @@
+#include "models/identified_model.h"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "common/csv.h"
+#include "common/errors.h"
+
+namespace airtwin {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr int kConstant = 0, kV = 1, kVair = 2;
+
+json coefficient_array(const IdentifiedModel::Coefficients& c) {
+  json a = json::array();
+  for (int j = 0; j < kSindyTerms; ++j) a.push_back(c[j]);
+  return a;
+}
+
+json optional_number(const std::optional<double>& v) {
+  if (v && std::isfinite(*v)) return *v;
+  return nullptr;
+}
+
+// A tilt as a JSON key: "0", "22.5".
+std::string tilt_key(double tilt_deg) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", tilt_deg);
+  return buf;
+}
+
+}  // namespace
+
+bool IdentifiedModel::is_eq8() const {
+  for (int j = 0; j < kSindyTerms; ++j)
+    if (j != kConstant && j != kV && j != kVair && coefficients[j] != 0.0) return false;
+  return true;
+}
+
+ObjectDynamics IdentifiedModel::eq8() const {
+  if (!is_eq8()) {
+    std::string extra;
+    for (int j = 3; j < kSindyTerms; ++j)
+      if (coefficients[j] != 0.0) extra += std::string(extra.empty() ? "" : ", ") + kTermNames[j];
+    throw InputError("the identified model has terms beyond eq. (8) (" + extra +
+                     "); the predictors use eq. (8): dv/dt = xi1 v + xi2 vair + xi3");
+  }
+  return {coefficients[kV], coefficients[kVair], coefficients[kConstant]};
+}
+
+std::string identified_model_json(const IdentifiedModel& m) {
+  json j;
+  j["object"] = m.object.empty() ? json(nullptr) : json(m.object);
+  j["method"] = m.method;
+  j["terms"] = json::array();
+  for (const char* name : kTermNames) j["terms"].push_back(name);
+  j["coefficients"] = coefficient_array(m.coefficients);
+  j["discrete_coefficients"] = coefficient_array(m.discrete);
+  j["inclusion_probability"] = coefficient_array(m.inclusion);
+  j["r2"] = m.r2;
+  j["end_position_mape"] = optional_number(m.end_position_mape_pct);
+  j["n_samples"] = m.n_samples;
+  j["n_dropped"] = m.n_dropped;
+  if (m.is_eq8()) {
+    j["eq8"] = {{"xi1", m.coefficients[kV]},
+                {"xi2", m.coefficients[kVair]},
+                {"xi3", m.coefficients[kConstant]}};
+  } else {
+    j["eq8"] = nullptr;
+  }
+  json by_tilt = json::object();
+  for (const auto& [tilt, mape] : m.end_position_mape_by_tilt_pct) by_tilt[tilt_key(tilt)] = mape;
+  j["end_position_mape_by_tilt"] = by_tilt;
+  j["n_mape_trajectories"] = m.n_mape_trajectories;
+  j["n_mape_excluded"] = m.n_mape_excluded;
+  j["n_pairs"] = m.n_pairs;
+  j["n_trajectories"] = m.n_trajectories;
+  j["n_glitches_repaired"] = m.n_glitches_repaired;
+  j["n_short_trajectories"] = m.n_short_trajectories;
+  j["dt_s"] = m.dt_s;
+  j["lambda"] = m.lambda;
+  j["bootstraps"] = m.bootstraps;
+  j["seed"] = m.seed;
+  j["smoothing_half_window"] = m.smoothing_half_window;
+  j["source"] = m.source;
+  return j.dump(2) + "\n";
+}
+
+IdentifiedModel read_identified_model(const std::string& path) {
+  return parse_identified_model_json(read_text_file(path), path);
+}
+
+IdentifiedModel parse_identified_model_json(const std::string& text, const std::string& source) {
+  const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) {
+    throw InputError(source + ": not a JSON object (expected a model.json of airtwin identify)");
+  }
+  auto need = [&](const char* key) -> const json& {
+    if (!j.contains(key)) throw InputError(source + ": key '" + key + "' is missing");
+    return j.at(key);
+  };
+  auto number = [&](const json& v, const std::string& key) {
+    if (!v.is_number() || !std::isfinite(v.get<double>())) {
+      throw InputError(source + ": key '" + key + "': expected a finite number");
+    }
+    return v.get<double>();
+  };
+  auto count = [&](const char* key) -> size_t {
+    if (!j.contains(key)) return 0;
+    if (!j.at(key).is_number_unsigned()) {
+      throw InputError(source + ": key '" + key + "': expected a non-negative integer");
+    }
+    return j.at(key).get<size_t>();
+  };
+  auto coefficients = [&](const char* key) {
+    const json& a = need(key);
+    if (!a.is_array() || a.size() != kSindyTerms) {
+      throw InputError(source + ": key '" + key + "': expected an array of " +
+                       std::to_string(kSindyTerms) + " numbers");
+    }
+    IdentifiedModel::Coefficients c;
+    for (int i = 0; i < kSindyTerms; ++i)
+      c[i] = number(a[i], std::string(key) + "[" + std::to_string(i) + "]");
+    return c;
+  };
+
+  IdentifiedModel m;
+  const json& terms = need("terms");
+  if (!terms.is_array() || terms.size() != kSindyTerms) {
+    throw InputError(source + ": key 'terms': expected the " + std::to_string(kSindyTerms) +
+                     " library terms");
+  }
+  for (int i = 0; i < kSindyTerms; ++i) {
+    if (!terms[i].is_string() || terms[i].get<std::string>() != kTermNames[i]) {
+      throw InputError(source + ": key 'terms'[" + std::to_string(i) + "]: expected '" +
+                       kTermNames[i] + "'");
+    }
+  }
+  m.coefficients = coefficients("coefficients");
+  if (j.contains("discrete_coefficients")) m.discrete = coefficients("discrete_coefficients");
+  if (j.contains("inclusion_probability")) m.inclusion = coefficients("inclusion_probability");
+  const json& object = need("object");
+  if (!object.is_null() && !object.is_string()) {
+    throw InputError(source + ": key 'object': expected a string or null");
+  }
+  if (object.is_string()) m.object = object.get<std::string>();
+  if (j.contains("method") && j.at("method").is_string()) m.method = j.at("method");
+  if (j.contains("r2")) m.r2 = number(j.at("r2"), "r2");
+  if (j.contains("end_position_mape") && !j.at("end_position_mape").is_null()) {
+    m.end_position_mape_pct = number(j.at("end_position_mape"), "end_position_mape");
+  }
+  m.n_samples = count("n_samples");
+  m.n_dropped = count("n_dropped");
+  m.n_pairs = count("n_pairs");
+  m.n_trajectories = count("n_trajectories");
+  m.n_glitches_repaired = count("n_glitches_repaired");
+  m.n_short_trajectories = count("n_short_trajectories");
+  m.n_mape_trajectories = count("n_mape_trajectories");
+  m.n_mape_excluded = count("n_mape_excluded");
+  if (j.contains("dt_s")) m.dt_s = number(j.at("dt_s"), "dt_s");
+  if (j.contains("lambda")) m.lambda = number(j.at("lambda"), "lambda");
+  if (j.contains("source") && j.at("source").is_string()) m.source = j.at("source");
+  return m;
+}
+
+}  // namespace airtwin

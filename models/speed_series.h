@@ -1,0 +1,27 @@
+#pragma once
+// A speed series: data that already are speeds, for `airtwin identify --series`.
+//
+// CSV with header `t,v,vair` (any column order): t in s, uniformly sampled; v the object's speed
+// and vair the air speed at the object, both in m/s and >= 0 (speeds are magnitudes, eq. 9).
+// One series per file. `#` comments and blank lines are allowed (common/csv.h).
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace airtwin {
+
+struct SpeedSeries {
+  std::vector<double> t_s, v_mps, vair_mps;
+  double dt_s = 0.0;  ///< the uniform sampling interval read from t
+  size_t size() const { return t_s.size(); }
+};
+
+/// Reads and validates: header, finite numbers, v and vair >= 0, t strictly increasing with one
+/// interval (every step within 1% of the median step), at least 3 rows. Every problem is an
+/// InputError naming the file, the line and the column.
+SpeedSeries read_speed_series_csv(const std::string& path);
+/// Same, from text in memory; `source` names it in messages.
+SpeedSeries parse_speed_series_csv(std::string_view text, const std::string& source);
+
+}  // namespace airtwin

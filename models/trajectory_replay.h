@@ -1,0 +1,60 @@
+#pragma once
+// Replaying measured trajectories with the model: each trajectory is predicted from its first
+// sample under the nozzle commands it recorded, and the predicted end position is compared with
+// the measured one, in percent of the distance the object travelled (section IV-B: "the MAPEs
+// between the experimental and predicted end-of-trajectory positions").
+//
+// Start state: the first sample's position, and its speed from the one-sided second-order
+// difference |(-3 p0 + 4 p1 - p2) / (2 dt)| (exact for uniformly accelerated motion, so an object
+// released at rest starts at ~0, as in Appendix D). Schedule: the command of the first sample,
+// then a change at every sample whose command differs from the previous one. Travelled distance:
+// the straight distance from the first to the last measured position (the motion of eq. 9 is
+// radial under a fixed orientation, so it equals the path length there, and it does not grow with
+// detection noise as a summed path would). Trajectories that travelled less than `min_travel_m`
+// cannot give a percentage and are excluded, counted.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "models/air_field.h"
+#include "models/object_dynamics.h"
+#include "models/trajectory_data.h"
+#include "models/trajectory_predictor.h"
+
+namespace airtwin {
+
+struct ReplayOptions {
+  double min_travel_m = 0.01;  ///< trajectories that moved less are excluded from the MAPE
+};
+
+struct ReplayedTrajectory {
+  std::string id;
+  bool used = false;  ///< false: fewer than 3 samples or moved less than min_travel_m
+  bool constant_command = false;  ///< one nozzle command throughout
+  double tilt_deg = 0.0;          ///< the first sample's tilt (deg, for grouping)
+  Eigen::Vector2d measured_end_W = Eigen::Vector2d::Zero();
+  Eigen::Vector2d predicted_end_W = Eigen::Vector2d::Zero();
+  double travel_m = 0.0;
+  double error_m = 0.0;
+  double error_pct = 0.0;  ///< 100 error / travel
+};
+
+struct ReplayReport {
+  std::vector<ReplayedTrajectory> trajectories;  ///< in the set's order
+  size_t n_used = 0;
+  size_t n_excluded = 0;
+  double mape_pct = 0.0;  ///< mean of error_pct over the used trajectories; NaN when none
+  /// MAPE per tilt (deg, rounded to 1e-3) over used trajectories with a constant command.
+  std::map<double, double> mape_by_tilt_pct;
+};
+
+/// Replays every trajectory of `set` with `dynamics` in `field` using `predictor`.
+/// Throws InputError when a trajectory's tilt is beyond the field model's fold, IntegrationError
+/// when the predictor fails.
+ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& field,
+                                 const ObjectDynamics& dynamics,
+                                 const TrajectoryPredictor& predictor,
+                                 const ReplayOptions& options = {});
+
+}  // namespace airtwin
