@@ -65,6 +65,9 @@ void BM_IdentifyTrajectories(benchmark::State& state) {
     const IdentifiedModel m = identify_trajectories(set, "tracer", field(), o);
     benchmark::DoNotOptimize(m.coefficients);
     state.counters["xi1"] = m.coefficients[1];
+    state.counters["xi2"] = m.coefficients[2];
+    state.counters["xi3"] = m.coefficients[0];
+    state.counters["noise_mm"] = 1e3 * m.position_noise_m;
     state.counters["end_mape_pct"] = m.end_position_mape_pct.value_or(-1);
     state.counters["pairs"] = static_cast<double>(m.n_pairs);
   }

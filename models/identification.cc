@@ -31,6 +31,9 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
           : 0;
   m.seed = o.sindy.seed;
   m.smoothing_half_window = o.pairs.smoothing_half_window;
+  m.position_noise_m = rep.position_noise_m;
+  m.positions_smoothed = rep.positions_smoothed;
+  m.stationary_speed_mps = rep.stationary_speed_mps;
   return m;
 }
 

@@ -84,6 +84,9 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["bootstraps"] = m.bootstraps;
   j["seed"] = m.seed;
   j["smoothing_half_window"] = m.smoothing_half_window;
+  j["position_noise_m"] = m.position_noise_m;
+  j["positions_smoothed"] = m.positions_smoothed;
+  j["stationary_speed_mps"] = m.stationary_speed_mps;
   j["source"] = m.source;
   return j.dump(2) + "\n";
 }

@@ -1,5 +1,6 @@
 #include "models/sindy.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -156,8 +157,15 @@ Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   const Eigen::VectorXd h = Q.rowwise().squaredNorm().cwiseMin(0.9999);
   const Eigen::VectorXd adjust = (1.0 - h.array()).rsqrt().matrix();
 
+  // The iterations solve the weighted normal equations of the column-equilibrated design (p <= 10
+  // columns: forming the Gram matrix is several times cheaper than a QR of the n x p matrix); the
+  // returned coefficients come from a pivoted QR with the final weights, so the answer keeps
+  // the QR's accuracy on this ill-conditioned library.
+  const Eigen::VectorXd col_scale = X.colwise().norm().cwiseMax(1e-300).cwiseInverse();
+  const Eigen::MatrixXd Xs = X * col_scale.asDiagonal();
   Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
   Eigen::VectorXd b = X.colPivHouseholderQr().solve(y);
+  bool reweighted = false;
   for (int it = 0; it < 50; ++it) {
     const Eigen::VectorXd r_adj = (y - X * b).cwiseProduct(adjust);
     // Robust scale: median absolute adjusted residual, ignoring the p smallest (MATLAB madsigma).
@@ -171,13 +179,23 @@ Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
       const double u = r_adj[i] / (kTune * s);
       w[i] = std::abs(u) < 1.0 ? (1 - u * u) * (1 - u * u) : 0.0;
     }
-    const Eigen::VectorXd sw = w.cwiseSqrt();
-    const Eigen::VectorXd b_new =
-        (sw.asDiagonal() * X).colPivHouseholderQr().solve(sw.cwiseProduct(y));
+    reweighted = true;
+    const Eigen::MatrixXd gram = Xs.transpose() * w.asDiagonal() * Xs;
+    const Eigen::VectorXd rhs = Xs.transpose() * w.cwiseProduct(y);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
+    Eigen::VectorXd b_new = col_scale.cwiseProduct(ldlt.solve(rhs));
+    if (ldlt.info() != Eigen::Success || !b_new.allFinite()) {
+      const Eigen::VectorXd sw = w.cwiseSqrt();
+      b_new = (sw.asDiagonal() * X).colPivHouseholderQr().solve(sw.cwiseProduct(y));
+    }
     const double change = (b_new - b).cwiseAbs().maxCoeff();
     const double scale = std::max(b_new.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
     b = b_new;
     if (change <= 1.5e-8 * scale) break;  // sqrt(eps), as robustfit
+  }
+  if (reweighted) {
+    const Eigen::VectorXd sw = w.cwiseSqrt();
+    b = (sw.asDiagonal() * X).colPivHouseholderQr().solve(sw.cwiseProduct(y));
   }
   if (weights_out) *weights_out = w;
   return b;

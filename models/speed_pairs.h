@@ -11,7 +11,12 @@
 //     it; smooth motion follows such a quadratic to well under a millimetre at 40 Hz, a glitch of
 //     1-3 cm does not. Threshold: max(glitch_floor_m, 6 x the trajectory's robust scale of the
 //     misfit). Flagged frames are replaced by the quadratic's value. Every repair is counted.
-//  2. Speeds by central differences, v_k = |p_{k+1} - p_{k-1}| / (2 dt) (Appendix D).
+//  2. Detection noise. The positions' noise (per axis) is estimated over the whole data set from
+//     fourth differences (robust: median absolute value). When it exceeds a floor (0.02 mm),
+//     each trajectory's x and y are smoothed by Savitzky-Golay (the window of step 5) first.
+//     The rest threshold of step 4 is raised to 3.5 x the speed noise this leaves, so that a
+//     resting object's jitter is not taken for motion.
+//  2b. Speeds by central differences, v_k = |p_{k+1} - p_{k-1}| / (2 dt) (Appendix D).
 //  3. Air speed at p_k from the field model under the nozzle command in force at frame k.
 //  4. Stationary samples dropped (speed below the threshold: dry friction is discontinuous at zero
 //     speed), counted in n_dropped. What remains splits into runs of consecutive moving samples.
@@ -33,7 +38,10 @@ namespace airtwin {
 struct SpeedPairOptions {
   bool repair_glitches = true;
   double glitch_floor_m = 0.008;        ///< smallest position jump taken for a glitch
-  double stationary_speed_mps = 0.005;  ///< speeds below this count as at rest
+  double stationary_speed_mps = 0.005;  ///< speeds below this count as at rest (at least)
+  /// Positions are smoothed (same Savitzky-Golay window) before differencing when the estimated
+  /// detection noise exceeds this; noise-free data are left exactly as measured.
+  double position_noise_floor_m = 2e-5;
   int smoothing_half_window = 4;        ///< Savitzky-Golay half window (samples); 0: none
   int smoothing_order = 3;              ///< Savitzky-Golay polynomial degree
 };
@@ -46,6 +54,9 @@ struct SpeedPairReport {
   size_t n_dropped = 0;  ///< speed samples dropped as stationary (raw or after smoothing)
   size_t n_glitches_repaired = 0;
   size_t n_short_trajectories = 0;  ///< fewer than 4 frames: no pair possible
+  double position_noise_m = 0.0;     ///< estimated detection noise (m, per axis; trajectories)
+  bool positions_smoothed = false;   ///< whether positions were smoothed before differencing
+  double stationary_speed_mps = 0.0; ///< the rest threshold used (option or 3.5 x speed noise)
 };
 
 /// Builds the regression pairs for trajectories of one object type. Throws InputError when the

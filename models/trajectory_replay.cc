@@ -1,11 +1,32 @@
 #include "models/trajectory_replay.h"
 
+#include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "common/errors.h"
 #include "common/units.h"
 
 namespace airtwin {
+
+ObjectState start_state(const std::vector<TrajectorySample>& s) {
+  AIRTWIN_DEMAND(s.size() >= 3);
+  // Least-squares quadratic p(tau) = a + b tau + c tau^2 through the first frames (tau = t - t0).
+  const size_t k = std::min<size_t>(s.size(), kStartFrames);
+  Eigen::MatrixXd A(k, 3);
+  Eigen::MatrixXd P(k, 2);
+  for (size_t i = 0; i < k; ++i) {
+    const double tau = s[i].t_s - s[0].t_s;
+    A.row(i) << 1.0, tau, tau * tau;
+    P.row(i) = s[i].p_W.transpose();
+  }
+  const Eigen::MatrixXd coef = A.colPivHouseholderQr().solve(P);
+  ObjectState start;
+  start.p_W = coef.row(0).transpose();
+  start.v = coef.row(1).norm();
+  return start;
+}
 
 ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& field,
                                  const ObjectDynamics& dynamics,
@@ -27,7 +48,8 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
     const double t0 = s.front().t_s;
     out.tilt_deg = std::round(rad_to_deg(s.front().nozzle.tilt_rad) * 1e3) / 1e3;
     out.measured_end_W = s.back().p_W;
-    out.travel_m = (s.back().p_W - s.front().p_W).norm();
+    out.start_W = start_state(s).p_W;
+    out.travel_m = (s.back().p_W - out.start_W).norm();
 
     OrientationSchedule schedule{{0.0, s.front().nozzle}};
     for (size_t k = 1; k < s.size(); ++k) {
@@ -39,10 +61,7 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
     }
     out.constant_command = schedule.size() == 1;
 
-    const double dt = s[1].t_s - s[0].t_s;
-    ObjectState start;
-    start.p_W = s[0].p_W;
-    start.v = (-3.0 * s[0].p_W + 4.0 * s[1].p_W - s[2].p_W).norm() / (2.0 * dt);
+    const ObjectState start = start_state(s);
     PredictionOptions po;
     po.horizon_s = s.back().t_s - t0;
     predictor.predict(field, schedule, std::span(&dynamics, 1), std::span(&start, 1), po,
