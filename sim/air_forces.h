@@ -1,0 +1,127 @@
+#pragma once
+// The air's push on every object body, applied through MuJoCo's passive-force callback.
+//
+// Per body b of object o (share w_b of o's horizontally projected area, sim/scene_builder.h), at
+// the body's centre of mass p (floor plane) with velocity v:
+//
+//   drag (the physics behind eq. 8, sim/scene_spec.h):
+//     F_D = w_b c_o (k_o u(p) - v),   c_o = m_o * drag_rate_o,   k_o = air_gain_o
+//     u(p) = J (v_air(p) + u'_o(t)):  v_air from the analytical field (section III) at the nozzle's
+//     effective orientation, J the jet level (sim/nozzle_actuator.h), u'_o the turbulence.
+//   turbulence near s (Appendix C: intensity up to ~10 % near s):
+//     u'_o(t) = sigma(r) eta_o(t), eta_o two independent Ornstein-Uhlenbeck processes of unit
+//     variance and correlation time turbulence_time_s, one pair per object, seeded;
+//     sigma(r) = U_ref (I_far + (I_near - I_far) exp(-(r / L_t)^2)), r = |p_o - s|.
+//     Defaults: U_ref 3.4 m/s (the paper's peak air speed), I_near 10 %, I_far 3 %, L_t 0.15 m,
+//     correlation time 0.05 s (integral length ~0.1 m / speed ~2 m/s).
+//   pressure-gradient push near s (the F_PG of eq. 4 that eq. 8 drops):
+//     stagnation pressure p(r) = J^2 p_s exp(-(r / b)^2), F_PG = w_b V_o (-dp/dr) (radial, outward)
+//     = w_b V_o J^2 p_s (2 r / b^2) exp(-(r / b)^2), largest at r = b / sqrt(2).
+//     Defaults: p_s = 11 Pa = rho U^2 / 2 with U = 4.3 m/s, the free-jet centreline speed at the
+//     floor (shared/notes/physics.md); b = 0.06 m, so the push peaks 4 cm from s and is gone by
+//     ~15 cm. For the tracer (V = 7.1e-6 m^3) the peak is 1.1 mN, 7 m/s^2: below its friction.
+//   static friction: kinetic friction comes from MuJoCo's contacts (mu_k per type). The extra
+//     static part is a holding force opposing the sum of the forces above, at most
+//     (mu_s - mu_k) m_o g, faded out by exp(-(|v_o| / v_stick)^2) as the object speeds up.
+// Forces are horizontal and act at each body's frame origin: the centre of a wad element, the
+// centre of a tracer's flat face. At the face the air adds no pitching moment; applied at the
+// tracer's centre of mass (5.6 mm up) it made the disc rock and hop on MuJoCo's soft contacts.
+//
+// Threading. mjcb_passive is one process-wide pointer; this file is its only owner. It points to a
+// dispatcher that looks up the AirForces registered *on the calling thread* (thread_local, by an
+// AirForcesScope around mj_step) and checks that MuJoCo called it for that scope's model; any
+// other call (another thread's bare model, an mj_forward outside a scope) gets no air force. So
+// any number of twins can step concurrently, one per thread, without sharing anything mutable.
+// Nothing here throws into MuJoCo: a fault inside the callback is recorded and the twin reports it
+// after mj_step returns.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "models/air_field.h"
+#include "sim/random_stream.h"
+#include "sim/scene_builder.h"
+#include "sim/scene_spec.h"
+
+namespace airtwin {
+
+/// The truths the controller's model lacks (besides servo, delay and ramp, sim/nozzle_actuator.h).
+struct AirForceParameters {
+  double turbulence_near = 0.10;            ///< intensity at s (fraction of the reference speed)
+  double turbulence_far = 0.03;             ///< intensity far from s
+  double turbulence_length_m = 0.15;        ///< L_t (m): where near turns into far
+  double turbulence_reference_speed_mps = 3.4;  ///< U_ref (m/s)
+  double turbulence_time_s = 0.05;          ///< correlation time (s) of eta
+  double stagnation_pressure_pa = 11.0;     ///< p_s (Pa); 0 switches the push off
+  double pressure_radius_m = 0.06;          ///< b (m)
+
+  /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
+  static AirForceParameters none();
+  /// Throws InputError naming the field unless every value is finite and in range.
+  void validate() const;
+};
+
+class AirForces {
+ public:
+  /// `objects` index the bodies of the compiled model this will push; `seed` seeds the turbulence
+  /// (one stream per object); `timestep_s` is the step of advance_turbulence().
+  AirForces(const AirForceParameters& params, const SceneParameters& scene,
+            std::vector<SceneObject> objects, uint64_t seed, double timestep_s);
+
+  /// The field (at the effective orientation) and jet level (0..1) for the coming step.
+  void set_air(const OrientedField& field, double jet_level);
+  /// Advances each object's turbulence by one timestep (call once per physics step).
+  void advance_turbulence();
+  /// Adds the air forces of the current state to d->qfrc_passive. Called by the dispatcher from
+  /// inside mj_step; never throws (a fault is recorded, see fault()).
+  void apply(const mjModel* m, mjData* d) noexcept;
+
+  /// The unit-variance turbulence state eta_o of object o (u'_o = sigma(r) eta_o).
+  Eigen::Vector2d turbulence_state(size_t o) const;
+  /// Most bodies one object may have.
+  static constexpr size_t kMaxBodiesPerObject = 64;
+  /// Empty, or what went wrong inside the callback (the first fault only).
+  const std::string& fault() const { return fault_; }
+  const std::vector<SceneObject>& objects() const { return objects_; }
+  const AirForceParameters& parameters() const { return params_; }
+
+ private:
+  struct PerObject {
+    double drag_coefficient;  // c_o (kg/s)
+    double air_gain;          // k_o
+    double pressure_volume;   // V_o (m^3)
+    double extra_static;      // (mu_s - mu_k) m_o (kg), times g gives the holding force
+    double stiction_speed;    // v_stick (m/s)
+    Eigen::Vector2d eta;      // OU state, unit variance per component
+  };
+  void apply_unchecked(const mjModel* m, mjData* d);
+
+  AirForceParameters params_;
+  std::vector<SceneObject> objects_;
+  std::vector<PerObject> per_object_;
+  std::vector<RandomStream> streams_;  // turbulence, one per object
+  const OrientedField* field_ = nullptr;
+  double jet_level_ = 0.0;
+  double ou_decay_ = 0.0, ou_kick_ = 0.0;  // eta <- decay eta + kick N(0, 1)
+  std::string fault_;
+};
+
+/// Registers `forces` as the air of `model` on the calling thread for the scope's lifetime (and
+/// installs the dispatcher into mjcb_passive on first use). Scopes nest; the innermost wins.
+class AirForcesScope {
+ public:
+  AirForcesScope(const mjModel* model, AirForces* forces);
+  ~AirForcesScope();
+  AirForcesScope(const AirForcesScope&) = delete;
+  AirForcesScope& operator=(const AirForcesScope&) = delete;
+
+ private:
+  const mjModel* previous_model_;
+  AirForces* previous_forces_;
+};
+
+}  // namespace airtwin

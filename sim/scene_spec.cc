@@ -1,0 +1,47 @@
+#include "sim/scene_spec.h"
+
+#include <cmath>
+
+#include "common/units.h"
+
+namespace airtwin {
+
+const char* object_type_name(ObjectType type) {
+  return type == ObjectType::kTracer ? "tracer" : "cotton";
+}
+
+ObjectTypeParameters ObjectTypeParameters::from_dynamics(const ObjectDynamics& xi,
+                                                         double diameter_m, double mass_kg,
+                                                         double gravity_mps2) {
+  ObjectTypeParameters p;
+  p.diameter_m = diameter_m;
+  p.mass_kg = mass_kg;
+  // c/m = -xi1, k = xi2 / (-xi1), mu_k = -xi3 / g (see the header).
+  p.drag_rate_per_s = -xi.xi1;
+  p.air_gain = xi.xi2 / -xi.xi1;
+  p.kinetic_friction = -xi.xi3 / gravity_mps2;
+  return p;
+}
+
+ObjectTypeParameters ObjectTypeParameters::tracer() {
+  ObjectTypeParameters p = from_dynamics(kTracerDynamics, 0.03, 0.16e-3);
+  p.static_friction_ratio = 1.2;
+  const double r = 0.5 * p.diameter_m;
+  p.pressure_volume_m3 = 2.0 / 3.0 * kPi * r * r * r;  // 7.1e-6 m^3
+  return p;
+}
+
+ObjectTypeParameters ObjectTypeParameters::cotton() {
+  ObjectTypeParameters p = from_dynamics(kCottonDynamics, 0.05, 0.22e-3);
+  p.static_friction_ratio = 1.3;
+  const double r = 0.5 * p.diameter_m;
+  p.pressure_volume_m3 = 0.1 * (4.0 / 3.0 * kPi * r * r * r);  // 6.5e-6 m^3
+  return p;
+}
+
+ObjectDynamics ObjectTypeParameters::dynamics(double gravity_mps2) const {
+  return ObjectDynamics{-drag_rate_per_s, drag_rate_per_s * air_gain,
+                        -kinetic_friction * gravity_mps2};
+}
+
+}  // namespace airtwin

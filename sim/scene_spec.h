@@ -1,0 +1,99 @@
+#pragma once
+// What a twin run is made of, as plain data: the objects of one scenario (SceneSpec, per run) and
+// the fixed physical description of the object types and the room (SceneParameters).
+//
+// The object-type defaults come from the paper: sizes and masses from sections II-B and IV-C, and
+// the drag and friction numbers from the identified dynamics of eq. (8) (section IV-B/C) read as
+// physics:
+//   m dv/dt = c (k u_air - v) - mu_k m g   (drag on a scaled relative air speed, Coulomb friction)
+//   <=> dv/dt = -(c/m) v + (c/m) k u_air - mu_k g = xi1 v + xi2 u_air + xi3
+// so  c/m = -xi1,  k = xi2 / (-xi1),  mu_k = -xi3 / g.
+// k > 1 for the tracer (1.60): the object reacts as if the air were faster than the field model's
+// speed at 1.5 cm. eq. (8) is a linear fit of a nonlinear (roughly quadratic) drag around the
+// operating range, and a linearised quadratic drag is exactly such an affine law whose air and
+// object coefficients need not match; the twin keeps the fit's structure so that identification
+// on twin data can recover eq. (8). A later calibration step refines these first-cut values.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "models/object_dynamics.h"
+
+namespace airtwin {
+
+/// The object kinds the twin can build.
+enum class ObjectType { kTracer, kCotton };
+
+/// "tracer" or "cotton".
+const char* object_type_name(ObjectType type);
+
+/// One object of a scenario.
+struct ObjectSpec {
+  std::string id;                 ///< unique, non-empty; names the object in messages and output
+  std::string type;               ///< "tracer" | "cotton"
+  Eigen::Vector2d p_W{0.0, 0.0};  ///< start position on the floor (m), world frame
+  std::optional<double> yaw_rad;  ///< start heading (rad); unset: drawn from the twin's seed
+};
+
+/// The objects of one run. `source` names the scenario in error messages ("scenes/line.yaml").
+struct SceneSpec {
+  std::vector<ObjectSpec> objects;
+  std::string source = "scene";
+};
+
+/// Physical description of one object type: body, contact and aerodynamics.
+struct ObjectTypeParameters {
+  double diameter_m = 0.0;  ///< footprint diameter (m)
+  double mass_kg = 0.0;     ///< total mass (kg)
+  /// Kinetic (Coulomb) friction coefficient against the floor, set on the MuJoCo contacts.
+  double kinetic_friction = 0.0;
+  /// Static / kinetic friction ratio (>= 1). The part above kinetic is applied by the air-force
+  /// callback as a holding force that fades out above `stiction_speed_mps`.
+  double static_friction_ratio = 1.0;
+  double stiction_speed_mps = 0.005;  ///< speed (m/s) below which the object counts as sticking
+  /// Drag rate c/m (1/s) of F = c (k u_air - v).
+  double drag_rate_per_s = 0.0;
+  /// Air-speed gain k (dimensionless) of F = c (k u_air - v).
+  double air_gain = 0.0;
+  /// Volume (m^3) on which the stagnation pressure gradient acts (F = -grad p * V).
+  double pressure_volume_m3 = 0.0;
+
+  /// The mapping of eq. (8) to drag and friction described in the header comment, for a body of
+  /// the given diameter and mass; g in m/s^2.
+  static ObjectTypeParameters from_dynamics(const ObjectDynamics& xi, double diameter_m,
+                                            double mass_kg, double gravity_mps2 = 9.81);
+  /// Polystyrene hemisphere, 3 cm, 0.16 g (section II-B), eq. (8) tracer coefficients, static
+  /// friction 1.2 x kinetic (foam on a smooth floor), pressure volume = the solid hemisphere.
+  static ObjectTypeParameters tracer();
+  /// Cotton wad, ~5 cm, 0.22 g (section IV-C), eq. (8) cotton coefficients, static friction
+  /// 1.3 x kinetic (fibres catch), pressure volume of a porous wad (a tenth of its envelope: air passes
+  /// through the fibres, so the pressure difference acts on little of it).
+  static ObjectTypeParameters cotton();
+
+  /// The eq. (8) coefficients these parameters reproduce on a flat floor (the inverse mapping).
+  ObjectDynamics dynamics(double gravity_mps2 = 9.81) const;
+};
+
+/// The fixed description of the twin's world (not per run).
+struct SceneParameters {
+  double timestep_s = 0.001;        ///< physics step (s); 1-2 ms are stable
+  double floor_half_size_m = 2.0;   ///< the floor plane spans [-h, h]^2 (m) around the origin
+  double nozzle_height_m = 1.43;    ///< h: tilt shaft and nozzle exit above the floor (m)
+  double camera_height_m = 3.2;     ///< top camera above the floor (m)
+  double camera_half_view_m = 1.35; ///< half the floor width the top camera sees (m)
+  int camera_resolution_px = 1024;  ///< square offscreen image (px)
+  ObjectTypeParameters tracer = ObjectTypeParameters::tracer();
+  ObjectTypeParameters cotton = ObjectTypeParameters::cotton();
+  /// Cotton shape: relative spread of the wad's per-axis extents and of each element's radius
+  /// around the nominal sphere (0.2 = +-20 %), drawn from the twin's seed per object.
+  double cotton_irregularity = 0.2;
+
+  const ObjectTypeParameters& of(ObjectType type) const {
+    return type == ObjectType::kTracer ? tracer : cotton;
+  }
+};
+
+}  // namespace airtwin

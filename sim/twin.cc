@@ -1,0 +1,215 @@
+#include "sim/twin.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/errors.h"
+#include "common/units.h"
+
+namespace airtwin {
+
+struct Twin::Impl {
+  Impl(const SceneSpec& spec, const TwinParameters& p, const AirFieldModel& fm, uint64_t seed)
+      : params(p),
+        field_model(fm),
+        scene(build_scene(spec, p.scene, seed)),
+        data(make_data(scene.model.get())),
+        actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
+        field(field_model.at(p.initial_orientation)),
+        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s) {}
+
+  void set_rig_joints();
+  void refresh_field();
+  void check_state();
+  std::string object_label(int body) const;
+
+  TwinParameters params;
+  AirFieldModel field_model;
+  BuiltScene scene;
+  DataPtr data;
+  NozzleActuator actuator;
+  OrientedField field;
+  AirForces air;
+  int64_t steps = 0;
+  std::string last_warning;
+};
+
+// The rig's hinges follow the servos kinematically: position and speed set, never integrated.
+void Twin::Impl::set_rig_joints() {
+  const mjModel* m = scene.model.get();
+  mjData* d = data.get();
+  d->qpos[m->jnt_qposadr[scene.pan_joint]] = actuator.actual().pan_rad;
+  d->qpos[m->jnt_qposadr[scene.tilt_joint]] = actuator.actual().tilt_rad;
+  d->qvel[m->jnt_dofadr[scene.pan_joint]] = actuator.pan_rate_radps();
+  d->qvel[m->jnt_dofadr[scene.tilt_joint]] = actuator.tilt_rate_radps();
+}
+
+// Rebuilds the oriented field only when the effective orientation changed (~1 us when it does).
+void Twin::Impl::refresh_field() {
+  const NozzleOrientation& e = actuator.effective();
+  if (e.pan_rad != field.orientation().pan_rad || e.tilt_rad != field.orientation().tilt_rad) {
+    field = field_model.at(e);
+  }
+}
+
+std::string Twin::Impl::object_label(int body) const {
+  if (body >= 0) {
+    const int root = scene.model->body_rootid[body];
+    for (const SceneObject& o : scene.objects) {
+      if (o.root_body == root) return "object '" + o.id + "'";
+    }
+  }
+  return "the nozzle rig";
+}
+
+// After a step: air faults, MuJoCo's bad-state warnings (it resets the state on them) and
+// non-finite or runaway object states end the run with the object and the time.
+void Twin::Impl::check_state() {
+  const mjModel* m = scene.model.get();
+  const mjData* d = data.get();
+  const double t = static_cast<double>(steps) * params.scene.timestep_s;
+  std::ostringstream when;
+  when << "twin: at t = " << t << " s: ";
+  if (!air.fault().empty()) throw SimulationError(when.str() + air.fault());
+  ThreadWarnings w = take_thread_warnings();
+  if (w.count > 0) last_warning = w.last_message;
+  for (int kind : {mjWARN_BADQACC, mjWARN_BADQVEL, mjWARN_BADQPOS}) {
+    if (d->warning[kind].number > 0) {
+      const int dof = d->warning[kind].lastinfo;
+      const int body = (dof >= 0 && dof < m->nv) ? m->dof_bodyid[dof] : -1;
+      throw SimulationError(when.str() + object_label(body) +
+                            " diverged (MuJoCo found a non-finite or huge state and reset it: " +
+                            (last_warning.empty() ? std::string("bad state") : last_warning) + ")");
+    }
+  }
+  for (const SceneObject& o : scene.objects) {
+    for (int b : o.bodies) {
+      const double* p = d->xipos + 3 * b;
+      if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
+        throw SimulationError(when.str() + "object '" + o.id + "' has a non-finite position");
+      }
+    }
+    const int dof = m->jnt_dofadr[m->body_jntadr[o.root_body]];
+    const double* v = d->qvel + dof;
+    if (!(std::abs(v[0]) < 100.0 && std::abs(v[1]) < 100.0 && std::abs(v[2]) < 100.0)) {
+      throw SimulationError(when.str() + "object '" + o.id +
+                            "' moves faster than 100 m/s: the simulation blew up");
+    }
+  }
+}
+
+Twin::Twin(const SceneSpec& spec, const TwinParameters& params, const AirFieldModel& field_model,
+           uint64_t seed) {
+  install_mujoco_handlers();
+  params.nozzle.validate();
+  params.air.validate();
+  if (params.nozzle.tilt_max_rad >= fold_tilt_rad(field_model.geometry())) {
+    throw InputError("nozzle parameters: tilt_max_rad " +
+                     std::to_string(rad_to_deg(params.nozzle.tilt_max_rad)) +
+                     " deg reaches the field model's fold at " +
+                     std::to_string(rad_to_deg(fold_tilt_rad(field_model.geometry()))) + " deg");
+  }
+  impl_ = std::make_unique<Impl>(spec, params, field_model, seed);
+  impl_->actuator.set_jet(params.jet_on_at_start);
+  // The initial configuration, with the rig in place and kinematics computed.
+  mj_resetData(impl_->scene.model.get(), impl_->data.get());
+  impl_->set_rig_joints();
+  mj_forward(impl_->scene.model.get(), impl_->data.get());
+  // Let the objects come to rest (no air scope is registered, so no air force acts).
+  if (!(std::isfinite(params.settle_time_s) && params.settle_time_s >= 0)) {
+    throw InputError("twin parameters: settle_time_s must be >= 0");
+  }
+  const int64_t settle_steps = std::llround(params.settle_time_s / params.scene.timestep_s);
+  for (int64_t k = 0; k < settle_steps; ++k) {
+    mj_step(impl_->scene.model.get(), impl_->data.get());
+  }
+  impl_->data->time = 0.0;
+  mj_forward(impl_->scene.model.get(), impl_->data.get());
+  impl_->check_state();
+}
+
+Twin::~Twin() = default;
+Twin::Twin(Twin&&) noexcept = default;
+Twin& Twin::operator=(Twin&&) noexcept = default;
+
+void Twin::step() {
+  Impl& s = *impl_;
+  s.actuator.step();
+  s.set_rig_joints();
+  s.refresh_field();
+  s.air.set_air(s.field, s.actuator.jet_level());
+  s.air.advance_turbulence();
+  {
+    AirForcesScope scope(s.scene.model.get(), &s.air);
+    mj_step(s.scene.model.get(), s.data.get());
+  }
+  // mj_step integrated the rig's hinges over the step; put them back on the servo angles.
+  s.set_rig_joints();
+  ++s.steps;
+  s.check_state();
+}
+
+void Twin::advance_to(double t_s) {
+  if (!std::isfinite(t_s)) throw InputError("twin: advance_to needs a finite time");
+  const int64_t target = std::llround(t_s / impl_->params.scene.timestep_s);
+  while (impl_->steps < target) step();
+}
+
+void Twin::advance(double duration_s) { advance_to(time() + duration_s); }
+
+void Twin::command_nozzle(const NozzleOrientation& target) { impl_->actuator.command(target); }
+void Twin::set_jet(bool on) { impl_->actuator.set_jet(on); }
+void Twin::settle_jet() { impl_->actuator.settle_jet(); }
+
+double Twin::time() const {
+  return static_cast<double>(impl_->steps) * impl_->params.scene.timestep_s;
+}
+int64_t Twin::step_count() const { return impl_->steps; }
+double Twin::timestep() const { return impl_->params.scene.timestep_s; }
+NozzleOrientation Twin::commanded_orientation() const { return impl_->actuator.commanded(); }
+NozzleOrientation Twin::actual_orientation() const { return impl_->actuator.actual(); }
+NozzleOrientation Twin::effective_orientation() const { return impl_->actuator.effective(); }
+double Twin::jet_level() const { return impl_->actuator.jet_level(); }
+const OrientedField& Twin::field() const { return impl_->field; }
+
+size_t Twin::object_count() const { return impl_->scene.objects.size(); }
+const SceneObject& Twin::object(size_t i) const {
+  AIRTWIN_DEMAND(i < impl_->scene.objects.size());
+  return impl_->scene.objects[i];
+}
+
+ObjectMotion Twin::object_state(size_t i) const {
+  const SceneObject& o = object(i);
+  const mjModel* m = impl_->scene.model.get();
+  const mjData* d = impl_->data.get();
+  ObjectMotion state;
+  for (size_t k = 0; k < o.bodies.size(); ++k) {
+    const int b = o.bodies[k];
+    const double w = o.area_share[k];
+    if (w == 0.0) continue;
+    state.p_W += w * Eigen::Vector2d(d->xipos[3 * b], d->xipos[3 * b + 1]);
+    state.v_W += w * body_com_velocity(m, d, b).head<2>();
+  }
+  return state;
+}
+
+std::vector<ObjectMotion> Twin::object_states() const {
+  std::vector<ObjectMotion> states;
+  states.reserve(object_count());
+  for (size_t i = 0; i < object_count(); ++i) states.push_back(object_state(i));
+  return states;
+}
+
+int Twin::warning_count() const {
+  int total = 0;
+  for (int k = 0; k < mjNWARNING; ++k) total += impl_->data->warning[k].number;
+  return total;
+}
+const std::string& Twin::last_warning() const { return impl_->last_warning; }
+const mjModel* Twin::model() const { return impl_->scene.model.get(); }
+const mjData* Twin::data() const { return impl_->data.get(); }
+const std::string& Twin::scene_xml() const { return impl_->scene.xml; }
+const AirForces& Twin::air_forces() const { return impl_->air; }
+const NozzleActuator& Twin::actuator() const { return impl_->actuator; }
+
+}  // namespace airtwin

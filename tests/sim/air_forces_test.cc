@@ -1,0 +1,159 @@
+// Air forces through the one mjcb_passive: the drag law on a free body, the pressure push, and the
+// dispatch rules (only the registered model, only on the registering thread).
+
+#include "sim/air_forces.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "sim/mujoco_runtime.h"
+
+namespace airtwin {
+namespace {
+
+// One free sphere of the tracer's mass, no gravity, nothing to touch: only the air acts on it.
+constexpr const char* kFloating = R"(
+<mujoco>
+  <option gravity="0 0 0" timestep="0.001"/>
+  <worldbody>
+    <body name="obj0" pos="0.3 0.1 0.05">
+      <freejoint/>
+      <inertial pos="0 0 0" mass="0.00016" diaginertia="1e-8 1e-8 1e-8"/>
+      <geom type="sphere" size="0.015" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+struct Floating {
+  Floating() : model(load_model_from_xml(kFloating, "floating")), data(make_data(model.get())) {
+    object.id = "probe";
+    object.type = ObjectType::kTracer;
+    object.root_body = 1;
+    object.bodies = {1};
+    object.area_share = {1.0};
+    object.mass_kg = model->body_mass[1];
+  }
+  ModelPtr model;
+  DataPtr data;
+  SceneObject object;
+};
+
+Eigen::Vector2d planar_acceleration(const mjData* d) { return {d->qacc[0], d->qacc[1]}; }
+
+TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
+  Floating f;
+  const SceneParameters scene;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.4, 0.3});
+  AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
+  air.set_air(field, 0.7);
+  // Give the body a velocity so that both terms of F = c (k J u - v) matter.
+  f.data->qvel[0] = 0.2;
+  f.data->qvel[1] = -0.1;
+  {
+    AirForcesScope scope(f.model.get(), &air);
+    mj_forward(f.model.get(), f.data.get());
+  }
+  const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
+  const ObjectTypeParameters& t = scene.tracer;
+  // a = (c/m)(k J u(p) - v) = -xi1 (xi2/-xi1 J u - v) = xi1 v + xi2 J u: eq. (8) without friction.
+  const Eigen::Vector2d expected = t.drag_rate_per_s * (t.air_gain * 0.7 * field.velocity(p) - v);
+  EXPECT_LT((planar_acceleration(f.data.get()) - expected).norm(), 1e-9 * expected.norm());
+  const Eigen::Vector2d eq8 = kTracerDynamics.xi1 * v + kTracerDynamics.xi2 * 0.7 * field.velocity(p);
+  EXPECT_LT((planar_acceleration(f.data.get()) - eq8).norm(), 1e-9 * eq8.norm());
+  EXPECT_TRUE(air.fault().empty());
+}
+
+TEST(AirForces, PressurePushIsRadialAndPeaksNearTheStagnationPoint) {
+  Floating f;
+  const SceneParameters scene;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  // Tilt 0: s is the origin. Put the body at r = b / sqrt(2), where the push peaks.
+  const OrientedField field = field_model.at({0.0, 0.0});
+  AirForceParameters params = AirForceParameters::none();
+  params.stagnation_pressure_pa = 11.0;
+  params.pressure_radius_m = 0.06;
+  const double r = 0.06 / std::sqrt(2.0);
+  AirForces with(params, scene, {f.object}, 1, 0.001);
+  AirForces without(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
+  with.set_air(field, 1.0);
+  without.set_air(field, 1.0);
+  DataPtr d2 = make_data(f.model.get());
+  for (mjData* d : {f.data.get(), d2.get()}) {
+    d->qpos[0] = r;  // along +x from s
+    d->qpos[1] = 0.0;
+  }
+  {
+    AirForcesScope scope(f.model.get(), &with);
+    mj_forward(f.model.get(), f.data.get());
+  }
+  {
+    AirForcesScope scope(f.model.get(), &without);
+    mj_forward(f.model.get(), d2.get());
+  }
+  const Eigen::Vector2d push = planar_acceleration(f.data.get()) - planar_acceleration(d2.get());
+  // F = V p_s (2 r / b^2) exp(-r^2 / b^2), outward.
+  const double expected = scene.tracer.pressure_volume_m3 * 11.0 * 2.0 * r / (0.06 * 0.06) *
+                          std::exp(-0.5) / scene.tracer.mass_kg;
+  EXPECT_NEAR(push.x(), expected, 1e-9 * expected);
+  EXPECT_NEAR(push.y(), 0.0, 1e-12);
+  EXPECT_GT(expected, 3.0);  // a few m/s^2: comparable to, but below, the tracer's friction
+  EXPECT_LT(expected, 8.53);
+}
+
+TEST(AirForces, OnlyTheRegisteredModelOnTheRegisteringThreadIsPushed) {
+  Floating a, b;
+  const SceneParameters scene;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.0, 0.2});
+  AirForces air(AirForceParameters::none(), scene, {a.object}, 1, 0.001);
+  air.set_air(field, 1.0);
+  {
+    AirForcesScope scope(a.model.get(), &air);
+    // Another model stepped on this thread: no air.
+    mj_forward(b.model.get(), b.data.get());
+    EXPECT_EQ(planar_acceleration(b.data.get()).norm(), 0.0);
+    // The registered model on another thread: no air either (that thread registered nothing).
+    DataPtr other = make_data(a.model.get());
+    std::thread worker([&] { mj_forward(a.model.get(), other.get()); });
+    worker.join();
+    EXPECT_EQ(planar_acceleration(other.get()).norm(), 0.0);
+    // The registered model here: pushed.
+    mj_forward(a.model.get(), a.data.get());
+    EXPECT_GT(planar_acceleration(a.data.get()).norm(), 1.0);
+  }
+  // Outside the scope: nothing.
+  DataPtr after = make_data(a.model.get());
+  mj_forward(a.model.get(), after.get());
+  EXPECT_EQ(planar_acceleration(after.get()).norm(), 0.0);
+}
+
+TEST(AirForces, TurbulenceIsAUnitVarianceProcessFromTheSeed) {
+  Floating f;
+  const SceneParameters scene;
+  AirForces a(AirForceParameters{}, scene, {f.object}, 5, 0.001);
+  AirForces b(AirForceParameters{}, scene, {f.object}, 5, 0.001);
+  AirForces c(AirForceParameters{}, scene, {f.object}, 6, 0.001);
+  double sum2 = 0.0, lag = 0.0;
+  Eigen::Vector2d previous = a.turbulence_state(0);
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    a.advance_turbulence();
+    b.advance_turbulence();
+    c.advance_turbulence();
+    ASSERT_EQ(a.turbulence_state(0), b.turbulence_state(0));
+    sum2 += a.turbulence_state(0).squaredNorm();
+    lag += a.turbulence_state(0).dot(previous);
+    previous = a.turbulence_state(0);
+  }
+  EXPECT_NE(a.turbulence_state(0), c.turbulence_state(0));
+  // 200 s of a 0.05 s process: ~4000 independent samples, so a few % of sampling error.
+  EXPECT_NEAR(sum2 / n / 2.0, 1.0, 0.1);
+  // One-step correlation exp(-dt / tau).
+  EXPECT_NEAR(lag / sum2, std::exp(-0.001 / 0.05), 1e-3);
+}
+
+}  // namespace
+}  // namespace airtwin

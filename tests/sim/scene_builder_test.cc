@@ -1,0 +1,232 @@
+// Scene assembly: a mixed scene compiles, its bodies are indexed with the paper's masses and
+// shapes, the rig and camera sit where the geometry says, and bad scenarios name the object.
+
+#include "sim/scene_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/errors.h"
+#include "common/units.h"
+#include "models/nozzle_geometry.h"
+
+namespace airtwin {
+namespace {
+
+// "t" + i, built without operator+ (GCC 12 -O3 reports a false -Wrestrict on it).
+std::string numbered(const char* prefix, int i) {
+  std::string s = prefix;
+  s += std::to_string(i);
+  return s;
+}
+
+SceneSpec mixed_scene() {
+  SceneSpec spec;
+  spec.source = "mixed.yaml";
+  spec.objects = {{"t0", "tracer", {0.3, 0.0}, 0.0},
+                  {"c0", "cotton", {-0.3, 0.2}, std::nullopt},
+                  {"t1", "tracer", {0.0, -0.5}, 1.0},
+                  {"c1", "cotton", {0.5, 0.5}, std::nullopt},
+                  {"t2", "tracer", {-1.2, -1.2}, std::nullopt}};
+  return spec;
+}
+
+TEST(SceneBuilder, MixedSceneCompilesWithIndexedObjects) {
+  const SceneParameters params;
+  const BuiltScene scene = build_scene(mixed_scene(), params, 1);
+  const mjModel* m = scene.model.get();
+  ASSERT_EQ(scene.objects.size(), 5u);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    // Named obj<i>, every body in its subtree, shares summing to one.
+    std::string expected_name = "obj";
+    expected_name += std::to_string(i);
+    EXPECT_EQ(std::string(mj_id2name(m, mjOBJ_BODY, o.root_body)), expected_name);
+    double share = 0.0;
+    for (size_t k = 0; k < o.bodies.size(); ++k) {
+      EXPECT_EQ(m->body_rootid[o.bodies[k]], o.root_body);
+      share += o.area_share[k];
+    }
+    EXPECT_NEAR(share, 1.0, 1e-12);
+    // Sections II-B and IV-C: 0.16 g tracers, 0.22 g wads.
+    if (o.type == ObjectType::kTracer) {
+      EXPECT_EQ(o.bodies.size(), 1u);
+      EXPECT_NEAR(o.mass_kg, 0.16e-3, 1e-9);
+    } else {
+      EXPECT_GT(o.bodies.size(), 20u);
+      EXPECT_NEAR(o.mass_kg, 0.22e-3, 1e-9);
+    }
+  }
+  EXPECT_EQ(scene.objects[1].id, "c0");
+  EXPECT_EQ(scene.objects[1].type, ObjectType::kCotton);
+}
+
+TEST(SceneBuilder, TracerIsAHemisphereOnAThinCollider) {
+  const SceneParameters params;
+  const BuiltScene scene = build_scene(mixed_scene(), params, 1);
+  const mjModel* m = scene.model.get();
+  const int b = scene.objects[0].root_body;
+  const double r = 0.015;
+  // Centre of mass 3R/8 above the flat face, solid-hemisphere inertia about the axis.
+  EXPECT_NEAR(m->body_ipos[3 * b + 2], 3.0 / 8.0 * r, 1e-12);
+  EXPECT_NEAR(m->body_inertia[3 * b + 2], 0.4 * 0.16e-3 * r * r, 1e-15);
+  const int collider = mj_name2id(m, mjOBJ_GEOM, "obj0_collider");
+  const int shell = mj_name2id(m, mjOBJ_GEOM, "obj0_shell");
+  ASSERT_GE(collider, 0);
+  ASSERT_GE(shell, 0);
+  EXPECT_EQ(m->geom_type[collider], mjGEOM_CYLINDER);
+  EXPECT_NEAR(m->geom_size[3 * collider], r, 1e-12);
+  EXPECT_EQ(m->geom_type[shell], mjGEOM_MESH);
+  EXPECT_EQ(m->geom_contype[shell], 0);
+  EXPECT_EQ(m->geom_conaffinity[shell], 0);
+  // The compiler recentres the mesh on its volume centroid, which for a solid hemisphere is 3R/8.
+  EXPECT_NEAR(m->geom_pos[3 * shell + 2], 3.0 / 8.0 * r, 2e-4);
+  // Kinetic friction from eq. (8): mu = -xi3 / g.
+  EXPECT_NEAR(m->geom_friction[3 * collider], 8.53 / 9.81, 1e-6);
+}
+
+TEST(SceneBuilder, NozzleExitAndJetAxisFollowEquationOne) {
+  const SceneParameters params;
+  BuiltScene scene = build_scene(mixed_scene(), params, 1);
+  const mjModel* m = scene.model.get();
+  DataPtr d = make_data(m);
+  const int site = mj_name2id(m, mjOBJ_SITE, "nozzle_exit");
+  ASSERT_GE(site, 0);
+  const NozzleGeometry geometry;
+  for (const NozzleOrientation o : {NozzleOrientation{0.0, 0.0}, NozzleOrientation{0.7, 0.4},
+                                    NozzleOrientation{-2.5, deg_to_rad(50)}}) {
+    d->qpos[m->jnt_qposadr[scene.pan_joint]] = o.pan_rad;
+    d->qpos[m->jnt_qposadr[scene.tilt_joint]] = o.tilt_rad;
+    mj_forward(m, d.get());
+    const Eigen::Vector3d exit(d->site_xpos[3 * site], d->site_xpos[3 * site + 1],
+                               d->site_xpos[3 * site + 2]);
+    EXPECT_NEAR(exit.z(), 1.43, 1e-12);
+    // The jet leaves along the site's -z axis; where it meets the floor is eq. (1)'s c.
+    const Eigen::Vector3d axis(-d->site_xmat[9 * site + 2], -d->site_xmat[9 * site + 5],
+                               -d->site_xmat[9 * site + 8]);
+    const Eigen::Vector3d hit = exit + axis * (exit.z() / -axis.z());
+    const Eigen::Vector2d c = projection_point(geometry, o);
+    EXPECT_NEAR(hit.x(), c.x(), 1e-9);
+    EXPECT_NEAR(hit.y(), c.y(), 1e-9);
+  }
+}
+
+TEST(SceneBuilder, TopCameraSeesTheWorkspaceAtTheRigResolution) {
+  const SceneParameters params;
+  const BuiltScene scene = build_scene(mixed_scene(), params, 1);
+  const mjModel* m = scene.model.get();
+  const int cam = mj_name2id(m, mjOBJ_CAMERA, "top");
+  ASSERT_GE(cam, 0);
+  EXPECT_EQ(m->vis.global.offwidth, 1024);
+  EXPECT_EQ(m->vis.global.offheight, 1024);
+  // Straight down, centred on the origin, at least 2.5 x 2.5 m of floor in view.
+  EXPECT_NEAR(m->cam_pos[3 * cam], 0.0, 1e-12);
+  EXPECT_NEAR(m->cam_pos[3 * cam + 1], 0.0, 1e-12);
+  const double half_view = m->cam_pos[3 * cam + 2] * std::tan(deg_to_rad(m->cam_fovy[cam]) / 2);
+  EXPECT_GE(half_view, 1.25);
+  // The floor is at least 3 x 3 m and textured.
+  const int floor = mj_name2id(m, mjOBJ_GEOM, "floor");
+  EXPECT_GE(m->geom_size[3 * floor], 1.5);
+  EXPECT_GE(m->geom_matid[floor], 0);
+  EXPECT_GE(m->mat_texid[m->geom_matid[floor]], 0);
+}
+
+TEST(SceneBuilder, CottonShapeComesFromTheSeed) {
+  const SceneParameters params;
+  const BuiltScene a = build_scene(mixed_scene(), params, 1);
+  const BuiltScene again = build_scene(mixed_scene(), params, 1);
+  const BuiltScene other = build_scene(mixed_scene(), params, 2);
+  const SceneObject& wad = a.objects[1];
+  double same = 0.0, different = 0.0, between_wads = 0.0;
+  for (size_t k = 1; k < wad.bodies.size(); ++k) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const int i = 3 * wad.bodies[k] + axis;
+      same += std::abs(a.model->body_pos[i] - again.model->body_pos[i]);
+      different += std::abs(a.model->body_pos[i] - other.model->body_pos[i]);
+      between_wads += std::abs(a.model->body_pos[i] -
+                               a.model->body_pos[3 * a.objects[3].bodies[k] + axis]);
+    }
+  }
+  EXPECT_EQ(same, 0.0);
+  EXPECT_GT(different, 1e-3);
+  EXPECT_GT(between_wads, 1e-3);  // two wads of one scene differ too
+  EXPECT_EQ(a.xml, again.xml);
+}
+
+TEST(SceneBuilder, BuffersGrowWithTheObjects) {
+  SceneSpec small, large;
+  small.objects = {{"c", "cotton", {0.0, 0.5}, 0.0}};
+  for (int i = 0; i < 6; ++i) {
+    large.objects.push_back({numbered("c", i), "cotton", {-0.6 + 0.2 * i, 0.5}, 0.0});
+  }
+  const SceneParameters params;
+  const BuiltScene a = build_scene(small, params, 1), b = build_scene(large, params, 1);
+  EXPECT_GT(b.model->njmax, a.model->njmax);
+  EXPECT_GT(b.model->nconmax, a.model->nconmax);
+}
+
+// Expects build_scene to throw an InputError whose message contains every one of `parts`.
+void expect_input_error(const SceneSpec& spec, std::initializer_list<std::string> parts) {
+  try {
+    build_scene(spec, SceneParameters{}, 1);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const std::string& p : parts) {
+      EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' missing from: " << what;
+    }
+  }
+}
+
+TEST(SceneBuilder, BadScenariosNameTheObject) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  SceneSpec spec;
+  spec.source = "bad.yaml";
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}, {"b", "foam", {0.3, 0.3}, 0.0}};
+  expect_input_error(spec, {"bad.yaml", "objects[1]", "'b'", "unknown type 'foam'"});
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}, {"b", "tracer", {nan, 0.3}, 0.0}};
+  expect_input_error(spec, {"objects[1]", "'b'", "finite"});
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}, {"b", "tracer", {0.02, 0.3}, 0.0}};
+  expect_input_error(spec, {"objects[1]", "'b'", "overlaps", "'a'"});
+  spec.objects = {{"a", "cotton", {0.0, 0.3}, 0.0}, {"b", "tracer", {0.04, 0.3}, 0.0}};
+  expect_input_error(spec, {"'b'", "overlaps", "'a'"});
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}, {"far", "tracer", {1.995, 0.0}, 0.0}};
+  expect_input_error(spec, {"objects[1]", "'far'", "outside the floor"});
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}, {"a", "tracer", {0.5, 0.3}, 0.0}};
+  expect_input_error(spec, {"objects[1]", "'a'", "used twice"});
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, nan}};
+  expect_input_error(spec, {"'a'", "yaw"});
+}
+
+TEST(SceneBuilder, BadParametersAreInputErrors) {
+  SceneSpec spec;
+  spec.objects = {{"a", "tracer", {0.0, 0.3}, 0.0}};
+  SceneParameters params;
+  params.tracer.mass_kg = -1.0;
+  EXPECT_THROW(build_scene(spec, params, 1), InputError);
+  params = SceneParameters{};
+  params.timestep_s = 0.05;
+  EXPECT_THROW(build_scene(spec, params, 1), InputError);
+  params = SceneParameters{};
+  params.cotton.static_friction_ratio = 0.5;
+  EXPECT_THROW(build_scene(spec, params, 1), InputError);
+}
+
+TEST(ObjectTypeParameters, ReproduceTheIdentifiedDynamics) {
+  // The mapping of eq. (8) to drag and friction inverts exactly.
+  for (const ObjectDynamics& xi : {kTracerDynamics, kCottonDynamics}) {
+    const ObjectDynamics back = ObjectTypeParameters::from_dynamics(xi, 0.03, 1e-4).dynamics();
+    EXPECT_NEAR(back.xi1, xi.xi1, 1e-12);
+    EXPECT_NEAR(back.xi2, xi.xi2, 1e-12);
+    EXPECT_NEAR(back.xi3, xi.xi3, 1e-12);
+  }
+  EXPECT_NEAR(ObjectTypeParameters::tracer().air_gain, 4.26 / 2.66, 1e-12);
+  EXPECT_GT(ObjectTypeParameters::tracer().static_friction_ratio, 1.0);
+}
+
+}  // namespace
+}  // namespace airtwin
