@@ -45,7 +45,7 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
     first = false;
   }
   if (first) std::printf(" 0");
-  std::printf("\n  R^2 = %.3f", m.r2);
+  std::printf("\n  R^2 = %.3f (of v_{k+1}; of the one-step change: %.3f)", m.r2, m.r2_change);
   if (m.end_position_mape_pct) {
     std::printf(", end-position MAPE = %.1f%% over %zu trajectories", *m.end_position_mape_pct,
                 m.n_mape_trajectories);

@@ -17,6 +17,7 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
   m.discrete = r.discrete;
   m.inclusion = r.inclusion;
   m.r2 = r.r2;
+  m.r2_change = r.r2_change;
   m.n_samples = rep.n_samples;
   m.n_dropped = rep.n_dropped;
   m.n_pairs = rep.n_pairs;

@@ -39,14 +39,17 @@ bool IdentifiedModel::is_eq8() const {
   return true;
 }
 
+std::string IdentifiedModel::eq8_note() const {
+  if (is_eq8()) return "";
+  std::string extra;
+  for (int j = 3; j < kSindyTerms; ++j)
+    if (coefficients[j] != 0.0) extra += std::string(extra.empty() ? "" : ", ") + kTermNames[j];
+  return "the identified model has terms beyond eq. (8) (" + extra +
+         "); the predictors use eq. (8): dv/dt = xi1 v + xi2 vair + xi3";
+}
+
 ObjectDynamics IdentifiedModel::eq8() const {
-  if (!is_eq8()) {
-    std::string extra;
-    for (int j = 3; j < kSindyTerms; ++j)
-      if (coefficients[j] != 0.0) extra += std::string(extra.empty() ? "" : ", ") + kTermNames[j];
-    throw InputError("the identified model has terms beyond eq. (8) (" + extra +
-                     "); the predictors use eq. (8): dv/dt = xi1 v + xi2 vair + xi3");
-  }
+  if (!is_eq8()) throw InputError(eq8_note());
   return {coefficients[kV], coefficients[kVair], coefficients[kConstant]};
 }
 
@@ -70,6 +73,7 @@ std::string identified_model_json(const IdentifiedModel& m) {
   } else {
     j["eq8"] = nullptr;
   }
+  j["r2_change"] = m.r2_change;
   json by_tilt = json::object();
   for (const auto& [tilt, mape] : m.end_position_mape_by_tilt_pct) by_tilt[tilt_key(tilt)] = mape;
   j["end_position_mape_by_tilt"] = by_tilt;
@@ -151,6 +155,7 @@ IdentifiedModel parse_identified_model_json(const std::string& text, const std::
   if (object.is_string()) m.object = object.get<std::string>();
   if (j.contains("method") && j.at("method").is_string()) m.method = j.at("method");
   if (j.contains("r2")) m.r2 = number(j.at("r2"), "r2");
+  if (j.contains("r2_change")) m.r2_change = number(j.at("r2_change"), "r2_change");
   if (j.contains("end_position_mape") && !j.at("end_position_mape").is_null()) {
     m.end_position_mape_pct = number(j.at("end_position_mape"), "end_position_mape");
   }

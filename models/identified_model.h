@@ -6,7 +6,7 @@
 // (continuous time, per term, dv/dt in m/s^2), discrete_coefficients (v_{k+1} at the data's dt),
 // inclusion_probability, r2, end_position_mape (percent; null when it cannot be computed, e.g. a
 // speed series has no positions), n_samples, n_dropped; then the details: eq8 ({xi1, xi2, xi3}
-// when only the terms 1, v, vair are active, else null), end_position_mape_by_tilt,
+// when only the terms 1, v, vair are active, else null), r2_change, end_position_mape_by_tilt,
 // n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories, n_glitches_repaired,
 // n_short_trajectories, dt_s, lambda, bootstraps, seed, smoothing_half_window, position_noise_m,
 // positions_smoothed, stationary_speed_mps, source.
@@ -30,7 +30,8 @@ struct IdentifiedModel {
   Coefficients coefficients = Coefficients::Zero();  ///< continuous time
   Coefficients discrete = Coefficients::Zero();
   Coefficients inclusion = Coefficients::Zero();
-  double r2 = 0.0;
+  double r2 = 0.0;         ///< of v_{k+1}, the regression of eq. (6) (the paper's figure)
+  double r2_change = 0.0;  ///< of v_{k+1} - v_k (stricter)
   std::optional<double> end_position_mape_pct;
   std::map<double, double> end_position_mape_by_tilt_pct;  ///< tilt (deg) -> MAPE (%)
   size_t n_samples = 0, n_dropped = 0, n_pairs = 0, n_trajectories = 0;
@@ -51,6 +52,8 @@ struct IdentifiedModel {
   /// The eq. (8) coefficients {xi1 = v, xi2 = vair, xi3 = 1}. Throws InputError naming the extra
   /// terms when the model is not of that form.
   ObjectDynamics eq8() const;
+  /// Why the model is not of the form of eq. (8) (its extra terms), or "" when it is.
+  std::string eq8_note() const;
 };
 
 /// The model.json text (2-space indented, keys in the documented order, ends with a newline).

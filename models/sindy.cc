@@ -292,17 +292,19 @@ SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
   lm.minimize(x);
   res.continuous = x.allFinite() ? functor.expand(x) : start;
 
-  // R^2 of the one-step speed change under the continuous model, over all pairs.
-  double ss_res = 0, ss_tot = 0;
-  const double mean = (d.v_next - d.v).mean();
+  // R^2 of v_{k+1} (the regression's target, the paper's figure) and of the one-step change,
+  // both from the continuous model's one-step flow, over all pairs.
+  double ss_res = 0, ss_change = 0, ss_next = 0;
+  const double mean_change = (d.v_next - d.v).mean(), mean_next = d.v_next.mean();
   for (Eigen::Index k = 0; k < n; ++k) {
+    const double next = sindy_flow_step(res.continuous, d.v[k], d.va[k], d.va_next[k], d.dt_s);
     const double dv = d.v_next[k] - d.v[k];
-    const double pred =
-        sindy_flow_step(res.continuous, d.v[k], d.va[k], d.va_next[k], d.dt_s) - d.v[k];
-    ss_res += (dv - pred) * (dv - pred);
-    ss_tot += (dv - mean) * (dv - mean);
+    ss_res += (d.v_next[k] - next) * (d.v_next[k] - next);
+    ss_change += (dv - mean_change) * (dv - mean_change);
+    ss_next += (d.v_next[k] - mean_next) * (d.v_next[k] - mean_next);
   }
-  res.r2 = ss_tot > 0 ? 1.0 - ss_res / ss_tot : 0.0;
+  res.r2 = ss_next > 0 ? 1.0 - ss_res / ss_next : 0.0;
+  res.r2_change = ss_change > 0 ? 1.0 - ss_res / ss_change : 0.0;
   return res;
 }
 

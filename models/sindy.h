@@ -56,7 +56,12 @@ struct SindyResult {
   Eigen::Matrix<double, kSindyTerms, 1> discrete;    ///< xi_d (E-SINDy: the median)
   Eigen::Matrix<double, kSindyTerms, 1> continuous;  ///< xi_c, 1/s scale (dv/dt)
   Eigen::Matrix<double, kSindyTerms, 1> inclusion;   ///< fraction of bootstraps keeping a term
-  double r2 = 0.0;  ///< of the one-step speed change v_{k+1} - v_k, continuous model, all pairs
+  /// Goodness of fit of the regression of eq. (6), as the paper reports it: R^2 of the target
+  /// v_{k+1} predicted by the continuous model's one-step flow from v_k, all pairs.
+  double r2 = 0.0;
+  /// A stricter figure: R^2 of the one-step change v_{k+1} - v_k (the part the model explains
+  /// beyond persistence), same predictions.
+  double r2_change = 0.0;
   Eigen::VectorXd weights;  ///< final robust weights per pair (1 without robust regression)
 };
 

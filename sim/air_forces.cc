@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "common/errors.h"
+#include "common/units.h"
 
 namespace airtwin {
 namespace {
@@ -56,6 +57,15 @@ void AirForceParameters::validate() const {
         "stagnation_pressure_pa (expected >= 0)", stagnation_pressure_pa);
   check(std::isfinite(pressure_radius_m) && pressure_radius_m > 0,
         "pressure_radius_m (expected > 0)", pressure_radius_m);
+  check(std::isfinite(field_scale) && field_scale > 0, "field_scale (expected > 0)", field_scale);
+  check(std::isfinite(flow_deflection_rad) && std::abs(flow_deflection_rad) <= kPi / 2,
+        "flow_deflection_rad (expected [-pi/2, pi/2])", flow_deflection_rad);
+  check(std::isfinite(quadratic_drag_per_m) && quadratic_drag_per_m >= 0,
+        "quadratic_drag_per_m (expected >= 0)", quadratic_drag_per_m);
+  check(std::isfinite(extra_push_mps2) && extra_push_mps2 >= 0,
+        "extra_push_mps2 (expected >= 0)", extra_push_mps2);
+  check(std::isfinite(extra_push_length_m) && extra_push_length_m > 0,
+        "extra_push_length_m (expected > 0)", extra_push_length_m);
 }
 
 AirForces::AirForces(const AirForceParameters& params, const SceneParameters& scene,
@@ -84,6 +94,20 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     p.eta = Eigen::Vector2d(ex, ey);
     per_object_.push_back(p);
   }
+  // The flattened body layout and the scratch columns, sized once.
+  size_t n_bodies = 0;
+  for (const SceneObject& obj : objects_) {
+    first_body_.push_back(n_bodies);
+    n_bodies += obj.bodies.size();
+  }
+  first_body_.push_back(n_bodies);
+  const Eigen::Index n = static_cast<Eigen::Index>(n_bodies);
+  p_body_W_.setZero(2, n);
+  v_body_W_.setZero(2, n);
+  u_body_W_.setZero(2, n);
+  f_body_W_.setZero(2, n);
+  cos_deflection_ = std::cos(params_.flow_deflection_rad);
+  sin_deflection_ = std::sin(params_.flow_deflection_rad);
 }
 
 void AirForces::set_air(const OrientedField& field, double jet_level) {
@@ -104,10 +128,48 @@ Eigen::Vector2d AirForces::turbulence_state(size_t o) const {
   return per_object_[o].eta;
 }
 
-void AirForces::apply(const mjModel* m, mjData* d) noexcept {
+void AirForces::apply(const mjModel* m, mjData* d) noexcept { run(m, d, false); }
+
+void AirForces::apply_reference(const mjModel* m, mjData* d) noexcept { run(m, d, true); }
+
+void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
   if (!fault_.empty()) return;
+  // No air and a level floor: nothing to do (the holding force opposes air and slope only).
+  const bool air = field_ != nullptr && jet_level_ > 0.0;
+  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0) return;
   try {
-    apply_unchecked(m, d);
+    if (m != bound_model_) bind(m);
+    compute_forces(m, d, air);
+    for (size_t o = 0; o < objects_.size(); ++o) {
+      const SceneObject& obj = objects_[o];
+      for (size_t k = 0; k < obj.bodies.size(); ++k) {
+        const int b = obj.bodies[k];
+        const Eigen::Index col = static_cast<Eigen::Index>(first_body_[o] + k);
+        const double fx = f_body_W_(0, col), fy = f_body_W_(1, col);
+        if (reference) {
+          // Slow reference: MuJoCo's own Jacobian transpose at the body origin.
+          const mjtNum force[3] = {fx, fy, 0.0};
+          const mjtNum torque[3] = {0.0, 0.0, 0.0};
+          mj_applyFT(m, d, force, torque, d->xpos + 3 * b, b, d->qfrc_passive);
+        } else if (dofs_[col].free_dof >= 0) {
+          // At a free joint's anchor: the force acts on its translational dofs alone.
+          d->qfrc_passive[dofs_[col].free_dof] += fx;
+          d->qfrc_passive[dofs_[col].free_dof + 1] += fy;
+        } else {
+          // J^T F over the chain: column j of the point Jacobian is
+          // cdof_lin_j + cdof_ang_j x (p - subtree_com(root)), as mj_jac builds it.
+          const mjtNum* root_com = d->subtree_com + 3 * m->body_rootid[b];
+          const double ox = d->xpos[3 * b] - root_com[0], oy = d->xpos[3 * b + 1] - root_com[1],
+                       oz = d->xpos[3 * b + 2] - root_com[2];
+          for (int j : dofs_[col].chain) {
+            const mjtNum* c = d->cdof + 6 * j;
+            const double jx = c[3] + (c[1] * oz - c[2] * oy);
+            const double jy = c[4] + (c[2] * ox - c[0] * oz);
+            d->qfrc_passive[j] += jx * fx + jy * fy;
+          }
+        }
+      }
+    }
   } catch (const std::exception& e) {
     fault_ = std::string("air-force callback failed: ") + e.what();
   } catch (...) {
@@ -115,70 +177,120 @@ void AirForces::apply(const mjModel* m, mjData* d) noexcept {
   }
 }
 
-void AirForces::apply_unchecked(const mjModel* m, mjData* d) {
-  if (field_ == nullptr || jet_level_ <= 0.0) {
-    // No air: only the holding force could act, and it opposes air forces only.
-    return;
+void AirForces::bind(const mjModel* m) {
+  dofs_.assign(static_cast<size_t>(p_body_W_.cols()), BodyDofs{});
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    const SceneObject& obj = objects_[o];
+    for (size_t k = 0; k < obj.bodies.size(); ++k) {
+      const int b = obj.bodies[k];
+      AIRTWIN_DEMAND(b > 0 && b < m->nbody);
+      BodyDofs& dofs = dofs_[first_body_[o] + k];
+      const int j = m->body_jntadr[b];
+      if (obj.bodies.size() == 1 && m->body_jntnum[b] == 1 && m->jnt_type[j] == mjJNT_FREE &&
+          m->jnt_pos[3 * j] == 0 && m->jnt_pos[3 * j + 1] == 0 && m->jnt_pos[3 * j + 2] == 0) {
+        dofs.free_dof = m->jnt_dofadr[j];
+        continue;
+      }
+      // The dofs that move the body: its own and its ancestors', as mj_jac walks them.
+      int body = b;
+      while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
+      if (body <= 0) continue;
+      for (int i = m->body_dofadr[body] + m->body_dofnum[body] - 1; i >= 0;
+           i = m->dof_parentid[i]) {
+        dofs.chain.push_back(i);
+      }
+    }
   }
-  const Eigen::Vector2d s_W = field_->stagnation_point();
-  const double g = std::abs(m->opt.gravity[2]);
+  bound_model_ = m;
+}
+
+// The horizontal force on every body (f_body_W_) from the state in d; without `air`, only the
+// holding force against the floor's slope.
+void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
+  const Eigen::Vector2d s_W = air ? field_->stagnation_point() : Eigen::Vector2d::Zero();
+  const double scale = air ? jet_level_ * params_.field_scale : 0.0;  // J f: air-speed factor
+  const double g_normal = std::abs(m->opt.gravity[2]);
+  const Eigen::Vector2d g_floor_W(m->opt.gravity[0], m->opt.gravity[1]);
   const double b2 = params_.pressure_radius_m * params_.pressure_radius_m;
-  const double push = jet_level_ * jet_level_ * params_.stagnation_pressure_pa;
+  const double push = scale * scale * params_.stagnation_pressure_pa;
+  const double l2 = params_.extra_push_length_m * params_.extra_push_length_m;
+  // sqrt(2e) / l: a(r) = A sqrt(2e) (r / l) exp(-(r / l)^2) peaks at A when r = l / sqrt(2).
+  const double extra_push = scale * scale * params_.extra_push_mps2 *
+                            std::sqrt(2.0 * std::exp(1.0)) / params_.extra_push_length_m;
   const double i_near = params_.turbulence_near, i_far = params_.turbulence_far;
   const double lt2 = params_.turbulence_length_m * params_.turbulence_length_m;
+  const double c_quadratic = params_.quadratic_drag_per_m;
+
+  // Every body's centre of mass and velocity, and the mean air velocity there, in one batch.
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    const SceneObject& obj = objects_[o];
+    for (size_t k = 0; k < obj.bodies.size(); ++k) {
+      const int b = obj.bodies[k];
+      const Eigen::Index col = static_cast<Eigen::Index>(first_body_[o] + k);
+      p_body_W_(0, col) = d->xipos[3 * b];
+      p_body_W_(1, col) = d->xipos[3 * b + 1];
+      v_body_W_.col(col) = body_com_velocity(m, d, b).head<2>();
+    }
+  }
+  if (air) field_->velocities(p_body_W_, u_body_W_);
 
   for (size_t o = 0; o < objects_.size(); ++o) {
     const SceneObject& obj = objects_[o];
     const PerObject& po = per_object_[o];
-    const size_t n = obj.bodies.size();
+    const Eigen::Index first = static_cast<Eigen::Index>(first_body_[o]);
+    const Eigen::Index n = static_cast<Eigen::Index>(obj.bodies.size());
 
     // The object's centre and velocity (area-weighted), and its turbulent air velocity.
     Eigen::Vector2d centre = Eigen::Vector2d::Zero(), v_obj = Eigen::Vector2d::Zero();
-    for (size_t k = 0; k < n; ++k) {
-      const int b = obj.bodies[k];
-      centre += obj.area_share[k] * Eigen::Vector2d(d->xipos[3 * b], d->xipos[3 * b + 1]);
-      v_obj += obj.area_share[k] * body_com_velocity(m, d, b).head<2>();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      centre += obj.area_share[k] * p_body_W_.col(first + k);
+      v_obj += obj.area_share[k] * v_body_W_.col(first + k);
     }
     const double r_obj2 = (centre - s_W).squaredNorm();
     const double sigma = params_.turbulence_reference_speed_mps *
                          (i_far + (i_near - i_far) * std::exp(-r_obj2 / lt2));
     const Eigen::Vector2d u_turbulent = sigma * po.eta;
 
-    // Drag and pressure push on each body, by its area share.
+    // Drag and pressure pushes on each body, by its area share.
     Eigen::Vector2d total = Eigen::Vector2d::Zero();
-    Eigen::Vector2d body_force[kMaxBodiesPerObject];
-    for (size_t k = 0; k < n; ++k) {
-      const int b = obj.bodies[k];
+    for (Eigen::Index k = 0; k < n && !air; ++k) f_body_W_.col(first + k).setZero();
+    for (Eigen::Index k = 0; k < n && air; ++k) {
+      const Eigen::Index col = first + k;
       const double w = obj.area_share[k];
-      const Eigen::Vector2d p(d->xipos[3 * b], d->xipos[3 * b + 1]);
-      const Eigen::Vector2d v = body_com_velocity(m, d, b).head<2>();
-      const Eigen::Vector2d u = jet_level_ * (field_->velocity(p) + u_turbulent);
+      const Eigen::Vector2d p = p_body_W_.col(col), v = v_body_W_.col(col);
+      // Mean air (turned by the flow deflection) plus turbulence, times the jet level and scale.
+      const Eigen::Vector2d mean = u_body_W_.col(col);
+      const Eigen::Vector2d turned(cos_deflection_ * mean.x() - sin_deflection_ * mean.y(),
+                                   sin_deflection_ * mean.x() + cos_deflection_ * mean.y());
+      const Eigen::Vector2d u = scale * (turned + u_turbulent);
+      // eq. (8) as physics: F = c (k u - v).
       Eigen::Vector2d f = w * po.drag_coefficient * (po.air_gain * u - v);
+      if (c_quadratic > 0.0) {
+        const Eigen::Vector2d u_rel = u - v;
+        f += w * obj.mass_kg * c_quadratic * u_rel.norm() * u_rel;
+      }
       const Eigen::Vector2d from_s = p - s_W;
       const double r2 = from_s.squaredNorm();
       if (push > 0.0 && r2 > 0.0) {
         // -dp/dr along the unit radial direction: 2 r / b^2 p exp(-r^2/b^2) * (from_s / r).
         f += w * po.pressure_volume * push * (2.0 / b2) * std::exp(-r2 / b2) * from_s;
       }
-      body_force[k] = f;
+      if (extra_push > 0.0 && r2 > 0.0) {
+        // The pressure_gradient effect: A sqrt(2e) (r / l) exp(-(r/l)^2) along from_s / r.
+        f += w * obj.mass_kg * extra_push * std::exp(-r2 / l2) * from_s;
+      }
+      f_body_W_.col(col) = f;
       total += f;
     }
 
-    // Static friction beyond kinetic: hold against the push while (nearly) at rest.
-    Eigen::Vector2d hold = Eigen::Vector2d::Zero();
-    const double total_norm = total.norm();
-    if (po.extra_static > 0.0 && total_norm > 0.0) {
+    // Static friction beyond kinetic: hold against the push (and the floor's slope) at rest.
+    const Eigen::Vector2d held = total + obj.mass_kg * g_floor_W;
+    const double held_norm = held.norm();
+    if (po.extra_static > 0.0 && held_norm > 0.0) {
       const double fade = std::exp(-v_obj.squaredNorm() / (po.stiction_speed * po.stiction_speed));
-      hold = -(std::min(total_norm, po.extra_static * g) * fade / total_norm) * total;
-    }
-
-    // Apply at each body's centre of mass.
-    for (size_t k = 0; k < n; ++k) {
-      const int b = obj.bodies[k];
-      const Eigen::Vector2d f = body_force[k] + obj.area_share[k] * hold;
-      const mjtNum force[3] = {f.x(), f.y(), 0.0};
-      const mjtNum torque[3] = {0.0, 0.0, 0.0};
-      mj_applyFT(m, d, force, torque, d->xpos + 3 * b, b, d->qfrc_passive);
+      const Eigen::Vector2d hold =
+          -(std::min(held_norm, po.extra_static * g_normal) * fade / held_norm) * held;
+      for (Eigen::Index k = 0; k < n; ++k) f_body_W_.col(first + k) += obj.area_share[k] * hold;
     }
   }
 }

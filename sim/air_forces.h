@@ -27,6 +27,20 @@
 // centre of a tracer's flat face. At the face the air adds no pitching moment; applied at the
 // tracer's centre of mass (5.6 mm up) it made the disc rock and hop on MuJoCo's soft contacts.
 //
+// Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
+// speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
+// air velocity by a fixed angle (counter-clockwise positive) at the same speed; quadratic_drag
+// adds a w_b m_o C_q |u_rel| u_rel with u_rel = u(p) - v; pressure_gradient adds a radial push of
+// peak acceleration A at r = l / sqrt(2): a(r) = J^2 f^2 A sqrt(2e) (r / l) exp(-(r / l)^2).
+// Static friction holds against the in-plane part of gravity too (a sloped floor).
+//
+// Speed. The generalised force of a body is written straight into qfrc_passive: for a one-body
+// object on a free joint anchored at the body origin (a tracer) the force at that origin is just
+// (F_x, F_y) on the joint's two horizontal translational dofs (no torque: the point is the
+// anchor); for a body inside a tree (a wad element) it is J^T F over the dofs of its chain only,
+// with J from mjData::cdof as mj_jac builds it. mj_applyFT would do the same with dense 3 x nv
+// Jacobians. The field is evaluated for all bodies in one batch; nothing is allocated per step.
+//
 // Threading. mjcb_passive is one process-wide pointer; this file is its only owner. It points to a
 // dispatcher that looks up the AirForces registered *on the calling thread* (thread_local, by an
 // AirForcesScope around mj_step) and checks that MuJoCo called it for that scope's model; any
@@ -59,6 +73,13 @@ struct AirForceParameters {
   double stagnation_pressure_pa = 11.0;     ///< p_s (Pa); 0 switches the push off
   double pressure_radius_m = 0.06;          ///< b (m)
 
+  // Effects (sim/effects.h), neutral by default.
+  double field_scale = 1.0;                 ///< factor f on the air speed (> 0)
+  double flow_deflection_rad = 0.0;         ///< mean air velocity turned by this (rad, CCW +)
+  double quadratic_drag_per_m = 0.0;        ///< C_q (1/m): extra a = C_q |u_rel| u_rel
+  double extra_push_mps2 = 0.0;             ///< A (m/s^2): peak of the extra radial push
+  double extra_push_length_m = 0.15;        ///< l (m): its decay length (peak at l / sqrt(2))
+
   /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
   static AirForceParameters none();
   /// Throws InputError naming the field unless every value is finite and in range.
@@ -77,8 +98,11 @@ class AirForces {
   /// Advances each object's turbulence by one timestep (call once per physics step).
   void advance_turbulence();
   /// Adds the air forces of the current state to d->qfrc_passive. Called by the dispatcher from
-  /// inside mj_step; never throws (a fault is recorded, see fault()).
+  /// inside mj_step; never throws (a fault is recorded, see fault()). The first call binds the
+  /// object bodies to `m`'s dofs; later calls must pass the same model.
   void apply(const mjModel* m, mjData* d) noexcept;
+  /// The same forces through mj_applyFT (the slow reference the fast path is tested against).
+  void apply_reference(const mjModel* m, mjData* d) noexcept;
 
   /// The unit-variance turbulence state eta_o of object o (u'_o = sigma(r) eta_o).
   Eigen::Vector2d turbulence_state(size_t o) const;
@@ -98,7 +122,14 @@ class AirForces {
     double stiction_speed;    // v_stick (m/s)
     Eigen::Vector2d eta;      // OU state, unit variance per component
   };
-  void apply_unchecked(const mjModel* m, mjData* d);
+  // How one body's force reaches qfrc_passive (bound to a model on the first apply()).
+  struct BodyDofs {
+    int free_dof = -1;        // >= 0: translational dofs of a free joint anchored at the origin
+    std::vector<int> chain;   // otherwise: every dof from the body up to its root
+  };
+  void bind(const mjModel* m);
+  void compute_forces(const mjModel* m, const mjData* d, bool air);
+  void run(const mjModel* m, mjData* d, bool reference) noexcept;
 
   AirForceParameters params_;
   std::vector<SceneObject> objects_;
@@ -107,6 +138,12 @@ class AirForces {
   const OrientedField* field_ = nullptr;
   double jet_level_ = 0.0;
   double ou_decay_ = 0.0, ou_kick_ = 0.0;  // eta <- decay eta + kick N(0, 1)
+  double cos_deflection_ = 1.0, sin_deflection_ = 0.0;
+  // Per body, flattened over the objects (object o's bodies start at first_body_[o]).
+  std::vector<size_t> first_body_;
+  const mjModel* bound_model_ = nullptr;
+  std::vector<BodyDofs> dofs_;
+  Eigen::Matrix2Xd p_body_W_, v_body_W_, u_body_W_, f_body_W_;  // scratch, sized once
   std::string fault_;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "common/errors.h"
 #include "common/units.h"
@@ -34,6 +35,13 @@ void NozzleActuatorParameters::validate() const {
   }
   if (!(tilt_min_rad >= 0 && tilt_min_rad < tilt_max_rad && tilt_max_rad < kPi / 2)) {
     throw InputError("nozzle parameters: tilt range must satisfy 0 <= min < max < 90 deg");
+  }
+  for (const auto& [v, field] : {std::pair{pan_offset_rad, "pan_offset_rad"},
+                                 std::pair{tilt_offset_rad, "tilt_offset_rad"}}) {
+    if (!(std::isfinite(v) && std::abs(v) <= 0.5)) {
+      throw InputError(std::string("nozzle parameters: ") + field +
+                       " must be in [-0.5, 0.5] rad, got " + std::to_string(v));
+    }
   }
 }
 
@@ -67,10 +75,10 @@ NozzleActuator::NozzleActuator(const NozzleActuatorParameters& params,
   params_.validate();
   AIRTWIN_DEMAND(std::isfinite(dt_) && dt_ > 0);
   command(initial);
-  actual_ = initial;
+  actual_ = servo_target_;
   // A delay of n steps needs n + 1 slots: the oldest is read after the newest is written.
   const size_t n = static_cast<size_t>(std::lround(params_.field_delay_s / dt_));
-  history_.assign(n + 1, initial);
+  history_.assign(n + 1, actual_);
   head_ = 0;
   rise_factor_ = -std::expm1(-dt_ / params_.jet_rise_time_constant_s);
   fall_factor_ = -std::expm1(-dt_ / params_.jet_fall_time_constant_s);
@@ -88,14 +96,19 @@ void NozzleActuator::command(const NozzleOrientation& target) {
                      deg(params_.tilt_min_rad) + ", " + deg(params_.tilt_max_rad) + "]");
   }
   commanded_ = target;
+  // The servos' calibration bias: they turn to command + offset, within their ranges.
+  servo_target_.pan_rad = std::clamp(target.pan_rad + params_.pan_offset_rad, params_.pan_min_rad,
+                                     params_.pan_max_rad);
+  servo_target_.tilt_rad = std::clamp(target.tilt_rad + params_.tilt_offset_rad,
+                                      params_.tilt_min_rad, params_.tilt_max_rad);
 }
 
 void NozzleActuator::step() {
   // Servos.
-  servo_step(commanded_.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2, dt_,
-             &actual_.pan_rad, &pan_rate_);
-  servo_step(commanded_.tilt_rad, params_.max_speed_radps, params_.max_acceleration_radps2, dt_,
-             &actual_.tilt_rad, &tilt_rate_);
+  servo_step(servo_target_.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
+             dt_, &actual_.pan_rad, &pan_rate_);
+  servo_step(servo_target_.tilt_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
+             dt_, &actual_.tilt_rad, &tilt_rate_);
   // Delay line: overwrite the oldest slot with the newest, the next slot is now the oldest.
   history_[head_] = actual_;
   head_ = (head_ + 1) % history_.size();

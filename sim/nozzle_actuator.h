@@ -18,6 +18,10 @@
 // jet then needs ~0.05-0.1 s to re-form around s. Default: a pure delay of 0.2 s (the paper's
 // earlier time-delay model is not public; this is a parameter). It is quantised to whole steps.
 //
+// Servo calibration bias (the nozzle_offset effect, sim/effects.h; zero by default): the servos
+// go to command + offset, clamped to the ranges; commanded() stays the command, as a recording
+// of the rig would show it, while actual() and effective() carry the bias.
+//
 // Jet ramp: the paper's CFD reaches steady state ~8 s after the jet starts (Appendix B), so the
 // level rises as 1 - exp(-t / tau_on) with tau_on = 8 s / ln(100) = 1.74 s (99 % at 8 s). Switched
 // off, the wall jet drains in ~ r / U ~ 1 m / (3 m/s): tau_off = 0.3 s.
@@ -39,14 +43,19 @@ struct NozzleActuatorParameters {
   double tilt_min_rad = 0.0;
   /// 60 deg: the field model's tilt limit (models/nozzle_geometry.h), covers the idle 50 deg.
   double tilt_max_rad = 60.0 * 3.14159265358979323846 / 180.0;
+  /// Servo calibration bias (rad): the servos go to command + offset (clamped to the ranges).
+  double pan_offset_rad = 0.0;
+  double tilt_offset_rad = 0.0;
 
-  /// Throws InputError naming the field unless limits are positive and ranges ordered.
+  /// Throws InputError naming the field unless limits are positive, ranges ordered and the
+  /// offsets finite and within +-0.5 rad.
   void validate() const;
 };
 
 class NozzleActuator {
  public:
-  /// Servos at rest at `initial` (also commanded and effective), jet off (level 0).
+  /// Servos at rest at `initial` (also commanded; actual and effective = initial + offset,
+  /// clamped), jet off (level 0).
   /// `timestep_s` is the fixed step of step(). Throws InputError on bad parameters or an
   /// initial orientation outside the ranges.
   NozzleActuator(const NozzleActuatorParameters& params, const NozzleOrientation& initial,
@@ -63,6 +72,8 @@ class NozzleActuator {
   void step();
 
   const NozzleOrientation& commanded() const { return commanded_; }
+  /// Where the servos are heading: the command plus the calibration offset, clamped (rad).
+  const NozzleOrientation& servo_target() const { return servo_target_; }
   const NozzleOrientation& actual() const { return actual_; }
   /// The orientation the air field currently follows: actual, field_delay_s ago.
   const NozzleOrientation& effective() const { return history_[head_]; }
@@ -77,7 +88,7 @@ class NozzleActuator {
  private:
   NozzleActuatorParameters params_;
   double dt_;
-  NozzleOrientation commanded_, actual_;
+  NozzleOrientation commanded_, servo_target_, actual_;
   double pan_rate_ = 0.0, tilt_rate_ = 0.0;
   // Delay line of actual orientations, one per step: history_[head_] is the oldest.
   std::vector<NozzleOrientation> history_;

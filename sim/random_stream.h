@@ -13,7 +13,7 @@
 namespace airtwin {
 
 /// Streams a twin draws from (the `purpose` of RandomStream).
-enum class RandomPurpose : uint64_t { kShape = 1, kHeading = 2, kTurbulence = 3 };
+enum class RandomPurpose : uint64_t { kShape = 1, kHeading = 2, kTurbulence = 3, kCollection = 4 };
 
 class RandomStream {
  public:

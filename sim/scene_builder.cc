@@ -269,6 +269,14 @@ void validate_scene(const SceneSpec& spec, const SceneParameters& params) {
   if (params.camera_resolution_px < 16) {
     throw InputError("scene parameters: camera_resolution_px must be >= 16");
   }
+  if (!(std::isfinite(params.floor_slope_rad) && params.floor_slope_rad >= 0 &&
+        params.floor_slope_rad <= kPi / 6)) {
+    throw InputError("scene parameters: floor_slope_rad must be in [0, pi/6], got " +
+                     num(params.floor_slope_rad));
+  }
+  if (!std::isfinite(params.floor_slope_direction_rad)) {
+    throw InputError("scene parameters: floor_slope_direction_rad must be finite");
+  }
   if (!(params.cotton_irregularity >= 0 && params.cotton_irregularity <= 0.5)) {
     throw InputError("scene parameters: cotton_irregularity must be in [0, 0.5], got " +
                      num(params.cotton_irregularity));
@@ -326,11 +334,14 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
       rad_to_deg(2.0 * std::atan(params.camera_half_view_m / params.camera_height_m));
   const double h = params.floor_half_size_m;
 
+  const Eigen::Vector3d gravity = params.gravity_W();
+
   std::ostringstream s;
   s << "<mujoco model=\"airtwin\">\n"
     << "<compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
     << "<option timestep=\"" << num(params.timestep_s)
-    << "\" integrator=\"Euler\" cone=\"elliptic\"/>\n"
+    << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"" << num(gravity.x()) << ' '
+    << num(gravity.y()) << ' ' << num(gravity.z()) << "\"/>\n"
     << "<size njmax=\"" << njmax << "\" nconmax=\"" << nconmax << "\"/>\n"
     << "<visual>\n"
     << "  <global offwidth=\"" << params.camera_resolution_px << "\" offheight=\""

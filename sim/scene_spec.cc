@@ -44,4 +44,11 @@ ObjectDynamics ObjectTypeParameters::dynamics(double gravity_mps2) const {
                         -kinetic_friction * gravity_mps2};
 }
 
+Eigen::Vector3d SceneParameters::gravity_W() const {
+  constexpr double kG = 9.81;
+  const double along = kG * std::sin(floor_slope_rad);
+  return {along * std::cos(floor_slope_direction_rad), along * std::sin(floor_slope_direction_rad),
+          -kG * std::cos(floor_slope_rad)};
+}
+
 }  // namespace airtwin

@@ -79,17 +79,27 @@ struct ObjectTypeParameters {
 
 /// The fixed description of the twin's world (not per run).
 struct SceneParameters {
-  double timestep_s = 0.001;        ///< physics step (s); 1-2 ms are stable
+  /// Physics step (s); 1-2.5 ms are stable. 2.5 ms: the twin's speed target (docs/twin.md) and
+  /// a whole number of steps per 40 Hz camera frame.
+  double timestep_s = 0.0025;
   double floor_half_size_m = 2.0;   ///< the floor plane spans [-h, h]^2 (m) around the origin
   double nozzle_height_m = 1.43;    ///< h: tilt shaft and nozzle exit above the floor (m)
   double camera_height_m = 3.2;     ///< top camera above the floor (m)
   double camera_half_view_m = 1.35; ///< half the floor width the top camera sees (m)
+  /// A floor tilted by this (rad, the floor_slope effect; 0 = level). The world frame stays the
+  /// floor's frame (camera, field, positions); gravity tilts instead, with in-plane part
+  /// g sin(slope) toward floor_slope_direction_rad (from +x, counter-clockwise).
+  double floor_slope_rad = 0.0;
+  double floor_slope_direction_rad = 0.0;  ///< downhill direction in the floor plane (rad)
   int camera_resolution_px = 1024;  ///< square offscreen image (px)
   ObjectTypeParameters tracer = ObjectTypeParameters::tracer();
   ObjectTypeParameters cotton = ObjectTypeParameters::cotton();
   /// Cotton shape: relative spread of the wad's per-axis extents and of each element's radius
   /// around the nominal sphere (0.2 = +-20 %), drawn from the twin's seed per object.
   double cotton_irregularity = 0.2;
+
+  /// Gravity (m/s^2) in the floor's frame: 9.81 m/s^2 tilted by the floor slope.
+  Eigen::Vector3d gravity_W() const;
 
   const ObjectTypeParameters& of(ObjectType type) const {
     return type == ObjectType::kTracer ? tracer : cotton;

@@ -15,7 +15,7 @@ struct Twin::Impl {
         scene(build_scene(spec, p.scene, seed)),
         data(make_data(scene.model.get())),
         actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
-        field(field_model.at(p.initial_orientation)),
+        field(field_model.at(actuator.effective())),
         air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s) {}
 
   void set_rig_joints();
@@ -67,17 +67,20 @@ std::string Twin::Impl::object_label(int body) const {
 void Twin::Impl::check_state() {
   const mjModel* m = scene.model.get();
   const mjData* d = data.get();
-  const double t = static_cast<double>(steps) * params.scene.timestep_s;
-  std::ostringstream when;
-  when << "twin: at t = " << t << " s: ";
-  if (!air.fault().empty()) throw SimulationError(when.str() + air.fault());
+  // The message prefix is built only when something went wrong (this runs every step).
+  auto when = [&] {
+    std::ostringstream s;
+    s << "twin: at t = " << static_cast<double>(steps) * params.scene.timestep_s << " s: ";
+    return s.str();
+  };
+  if (!air.fault().empty()) throw SimulationError(when() + air.fault());
   ThreadWarnings w = take_thread_warnings();
   if (w.count > 0) last_warning = w.last_message;
   for (int kind : {mjWARN_BADQACC, mjWARN_BADQVEL, mjWARN_BADQPOS}) {
     if (d->warning[kind].number > 0) {
       const int dof = d->warning[kind].lastinfo;
       const int body = (dof >= 0 && dof < m->nv) ? m->dof_bodyid[dof] : -1;
-      throw SimulationError(when.str() + object_label(body) +
+      throw SimulationError(when() + object_label(body) +
                             " diverged (MuJoCo found a non-finite or huge state and reset it: " +
                             (last_warning.empty() ? std::string("bad state") : last_warning) + ")");
     }
@@ -86,13 +89,13 @@ void Twin::Impl::check_state() {
     for (int b : o.bodies) {
       const double* p = d->xipos + 3 * b;
       if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
-        throw SimulationError(when.str() + "object '" + o.id + "' has a non-finite position");
+        throw SimulationError(when() + "object '" + o.id + "' has a non-finite position");
       }
     }
     const int dof = m->jnt_dofadr[m->body_jntadr[o.root_body]];
     const double* v = d->qvel + dof;
     if (!(std::abs(v[0]) < 100.0 && std::abs(v[1]) < 100.0 && std::abs(v[2]) < 100.0)) {
-      throw SimulationError(when.str() + "object '" + o.id +
+      throw SimulationError(when() + "object '" + o.id +
                             "' moves faster than 100 m/s: the simulation blew up");
     }
   }

@@ -5,10 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 #include <thread>
 
 #include "sim/mujoco_runtime.h"
+#include "sim/scene_builder.h"
 
 namespace airtwin {
 namespace {
@@ -128,6 +132,97 @@ TEST(AirForces, OnlyTheRegisteredModelOnTheRegisteringThreadIsPushed) {
   DataPtr after = make_data(a.model.get());
   mj_forward(a.model.get(), after.get());
   EXPECT_EQ(planar_acceleration(after.get()).norm(), 0.0);
+}
+
+TEST(AirForces, EffectTermsFollowTheirLaws) {
+  // The free sphere at p with velocity v, one effect at a time, against the law in the header.
+  const SceneParameters scene;
+  const ObjectTypeParameters& t = scene.tracer;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.0, 0.0});  // s at the origin
+  const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
+  const double jet = 0.9;
+  auto acceleration = [&](const AirForceParameters& params) {
+    Floating f;
+    AirForces air(params, scene, {f.object}, 1, 0.001);
+    air.set_air(field, jet);
+    f.data->qvel[0] = v.x();
+    f.data->qvel[1] = v.y();
+    AirForcesScope scope(f.model.get(), &air);
+    mj_forward(f.model.get(), f.data.get());
+    return planar_acceleration(f.data.get());
+  };
+  auto drag = [&](const Eigen::Vector2d& u) { return t.drag_rate_per_s * (t.air_gain * u - v); };
+  const Eigen::Vector2d u = jet * field.velocity(p);
+  auto near = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - b).norm() < 1e-9 * b.norm();
+  };
+  AirForceParameters params = AirForceParameters::none();
+  // field_scale: u -> f u.
+  params.field_scale = 1.3;
+  EXPECT_TRUE(near(acceleration(params), drag(1.3 * u)));
+  // flow_deflection: u turned by the angle, counter-clockwise.
+  params = AirForceParameters::none();
+  params.flow_deflection_rad = 0.35;
+  EXPECT_TRUE(near(acceleration(params), drag(Eigen::Rotation2Dd(0.35) * u)));
+  // quadratic_drag: + C |u - v| (u - v).
+  params = AirForceParameters::none();
+  params.quadratic_drag_per_m = 0.7;
+  EXPECT_TRUE(near(acceleration(params), drag(u) + 0.7 * (u - v).norm() * (u - v)));
+  // pressure_gradient: + J^2 A sqrt(2e) (r / l) exp(-(r / l)^2) radially; its peak is A.
+  params = AirForceParameters::none();
+  params.extra_push_mps2 = 5.0;
+  params.extra_push_length_m = 0.2;
+  const double r = p.norm(), l = 0.2;
+  const double push = jet * jet * 5.0 * std::sqrt(2.0 * std::exp(1.0)) * (r / l) *
+                      std::exp(-(r / l) * (r / l));
+  EXPECT_TRUE(near(acceleration(params), drag(u) + push * p / r));
+  EXPECT_NEAR(std::sqrt(2.0 * std::exp(1.0)) * std::sqrt(0.5) * std::exp(-0.5), 1.0, 1e-15);
+}
+
+TEST(AirForces, FastPathMatchesMjApplyFT) {
+  // A tracer (free joint: written straight into its dofs) and a cotton wad (elements on sliders
+  // inside a free joint: J^T F over each chain) on a sloped floor, every effect of the force law
+  // on, objects slowly moving (stiction partly faded). The fast path must give MuJoCo's own
+  // Jacobian-transpose forces (mj_applyFT) to rounding.
+  SceneParameters scene;
+  scene.floor_slope_rad = 0.05;
+  scene.floor_slope_direction_rad = 1.0;
+  SceneSpec spec;
+  spec.objects = {{"t", "tracer", {0.25, 0.1}, 0.3}, {"c", "cotton", {-0.2, 0.15}, std::nullopt}};
+  const BuiltScene built = build_scene(spec, scene, 4);
+  const mjModel* m = built.model.get();
+  DataPtr d = make_data(m);
+  mj_resetData(m, d.get());
+  for (int i = 0; i < m->nv; ++i) d->qvel[i] = 0.002 * std::sin(1.0 + 0.7 * i);
+  mj_forward(m, d.get());  // no scope registered: no air in qfrc_passive yet
+
+  AirForceParameters params;
+  params.field_scale = 1.2;
+  params.flow_deflection_rad = 0.3;
+  params.quadratic_drag_per_m = 0.5;
+  params.extra_push_mps2 = 4.0;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.4, 0.15});
+  AirForces fast(params, scene, built.objects, 9, scene.timestep_s);
+  AirForces slow(params, scene, built.objects, 9, scene.timestep_s);
+  fast.set_air(field, 0.8);
+  slow.set_air(field, 0.8);
+  const std::vector<double> before(d->qfrc_passive, d->qfrc_passive + m->nv);
+  fast.apply(m, d.get());
+  std::vector<double> by_fast(m->nv), by_slow(m->nv);
+  for (int i = 0; i < m->nv; ++i) by_fast[i] = d->qfrc_passive[i] - before[i];
+  std::copy(before.begin(), before.end(), d->qfrc_passive);
+  slow.apply_reference(m, d.get());
+  for (int i = 0; i < m->nv; ++i) by_slow[i] = d->qfrc_passive[i] - before[i];
+  ASSERT_TRUE(fast.fault().empty() && slow.fault().empty());
+  double largest = 0.0, worst = 0.0;
+  for (int i = 0; i < m->nv; ++i) {
+    largest = std::max(largest, std::abs(by_slow[i]));
+    worst = std::max(worst, std::abs(by_fast[i] - by_slow[i]));
+  }
+  EXPECT_GT(largest, 1e-4);  // there is a force to compare (mN)
+  EXPECT_LT(worst, 1e-12 * largest);
 }
 
 TEST(AirForces, TurbulenceIsAUnitVarianceProcessFromTheSeed) {

@@ -116,6 +116,26 @@ TEST(NozzleActuator, JetRampFollowsItsDefinition) {
   EXPECT_EQ(nozzle.jet_level(), 1.0);
 }
 
+TEST(NozzleActuator, CalibrationOffsetBiasesTheServosNotTheCommand) {
+  NozzleActuatorParameters p;
+  p.pan_offset_rad = 0.05;
+  p.tilt_offset_rad = -0.03;
+  NozzleActuator nozzle(p, {0.2, 0.5}, 0.001);
+  // Servos start on command + offset; the command is what was asked for.
+  EXPECT_EQ(nozzle.commanded().pan_rad, 0.2);
+  EXPECT_DOUBLE_EQ(nozzle.actual().pan_rad, 0.25);
+  EXPECT_DOUBLE_EQ(nozzle.effective().tilt_rad, 0.47);
+  // A command at the tilt floor: the biased target is clamped to the servo range.
+  nozzle.command({-1.0, 0.0});
+  for (int k = 0; k < 2000; ++k) nozzle.step();
+  EXPECT_EQ(nozzle.commanded().tilt_rad, 0.0);
+  EXPECT_DOUBLE_EQ(nozzle.actual().pan_rad, -0.95);
+  EXPECT_EQ(nozzle.actual().tilt_rad, 0.0);
+  NozzleActuatorParameters bad;
+  bad.tilt_offset_rad = std::nan("");
+  EXPECT_THROW(NozzleActuator(bad, {0.0, 0.1}, 0.001), InputError);
+}
+
 TEST(NozzleActuator, RejectsCommandsOutsideTheRanges) {
   NozzleActuator nozzle(NozzleActuatorParameters{}, {0.0, 0.0}, 0.001);
   EXPECT_THROW(nozzle.command({0.0, deg_to_rad(61)}), InputError);

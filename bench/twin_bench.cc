@@ -1,0 +1,182 @@
+// Twin step rate (issue 4's benchmark): the MuJoCo twin stepped with its air callback against bare
+// MuJoCo stepping the same model without it, in one run, interleaved so that the shared machine's
+// load affects both alike.
+//
+// Each benchmark iteration runs kChunkSteps twin steps (Twin::step: servos, delay line, field,
+// turbulence, mj_step with the air registered, state checks). Before each, the twin's state
+// (qpos, qvel, warm start, time) is copied into a bare mjData of the same mjModel, which then
+// takes one plain mj_step with no air registered (the dispatcher pushes nothing): the same
+// configuration, contacts and velocities, minus the air and the twin's bookkeeping. That pair
+// gives `ratio`. Then the bare data runs a chunk on its own from the twin's state (`ratio_free`):
+// without air its objects slow down and stop, so its solver has less to do than the twin's. A
+// twin that has run kEpisode_s seconds is rebuilt (untimed), so the objects stay in view.
+//
+// Scenes (default TwinParameters: 2.5 ms step, turbulence, pressure push, stiction; jet settled):
+//   BM_TwinStep/tracers_25:  25 tracers scattered over ~1.2 x 1.2 m, the nozzle re-aimed every
+//                            second (tilt 20 deg, pan in 90 deg steps) so s sweeps past them and
+//                            the jet drives them into each other (the aggregation scene).
+//   BM_TwinStep/tracers_25_1ms: the same at the former 1 ms step (the default is 2.5 ms).
+//   BM_TwinStep/tracer_1:    one tracer in the jet.
+//   BM_TwinStep/mixed_12:    6 cotton wads + 6 tracers, same nozzle program.
+// Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
+// ratio (twin / mirrored bare step rate; the issue's target is >= 0.8 with rtf >= 10 on the
+// 25-tracer scene), ratio_free (twin / free-running bare step rate).
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/units.h"
+#include "sim/mujoco_runtime.h"
+#include "sim/twin.h"
+
+namespace airtwin {
+namespace {
+
+constexpr int kChunkSteps = 250;
+constexpr double kEpisode_s = 4.0;
+
+const AirFieldModel& field_model() {
+  static const AirFieldModel model = AirFieldModel::with_default_table();
+  return model;
+}
+
+std::string numbered(const char* prefix, int i) {
+  std::string s = prefix;
+  s += std::to_string(i);
+  return s;
+}
+
+// 25 tracers on a 5 x 5 grid of 0.26 m pitch with a fixed +-5 cm jitter: ~1.2 m across.
+SceneSpec tracers_25() {
+  SceneSpec spec;
+  for (int i = 0; i < 25; ++i) {
+    const double jx = 0.05 * std::sin(1.7 * i + 0.3), jy = 0.05 * std::cos(2.3 * i + 1.1);
+    spec.objects.push_back(
+        {numbered("t", i), "tracer", {0.26 * (i % 5 - 2) + jx, 0.26 * (i / 5 - 2) + jy}, 0.0});
+  }
+  return spec;
+}
+
+SceneSpec tracer_1() {
+  SceneSpec spec;
+  spec.objects = {{"t0", "tracer", {0.3, 0.2}, 0.0}};
+  return spec;
+}
+
+// Six wads on a ring of 0.35 m, six tracers on a ring of 0.6 m between them.
+SceneSpec mixed_12() {
+  SceneSpec spec;
+  for (int i = 0; i < 6; ++i) {
+    const double a = i * kPi / 3;
+    spec.objects.push_back(
+        {numbered("c", i), "cotton", {0.35 * std::cos(a), 0.35 * std::sin(a)}, std::nullopt});
+    spec.objects.push_back({numbered("t", i),
+                            "tracer",
+                            {0.6 * std::cos(a + kPi / 6), 0.6 * std::sin(a + kPi / 6)},
+                            0.0});
+  }
+  return spec;
+}
+
+// The nozzle program: tilt 20 deg, pan stepping by 90 deg every second.
+NozzleOrientation program(double t_s) {
+  const int k = static_cast<int>(std::floor(t_s)) % 4;
+  return {-kPi / 2 + k * kPi / 2, deg_to_rad(20)};
+}
+
+Twin make_twin(const SceneSpec& spec, double timestep_s) {
+  TwinParameters p;
+  p.scene.timestep_s = timestep_s;
+  p.jet_on_at_start = true;
+  p.initial_orientation = program(0.0);
+  Twin twin(spec, p, field_model(), 7);
+  twin.settle_jet();
+  return twin;
+}
+
+// The state mj_step starts from (everything else in mjData is recomputed from it).
+void copy_state(const mjModel* m, const mjData* from, mjData* to) {
+  mju_copy(to->qpos, from->qpos, m->nq);
+  mju_copy(to->qvel, from->qvel, m->nv);
+  mju_copy(to->act, from->act, m->na);
+  mju_copy(to->ctrl, from->ctrl, m->nu);
+  mju_copy(to->qacc_warmstart, from->qacc_warmstart, m->nv);
+  to->time = from->time;
+}
+
+void run(benchmark::State& state, const SceneSpec& spec,
+         double timestep_s = SceneParameters{}.timestep_s) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  Twin twin = make_twin(spec, timestep_s);
+  const mjModel* m = twin.model();
+  DataPtr bare = make_data(m);
+  double twin_s = 0.0, bare_s = 0.0, free_s = 0.0;
+  int64_t steps = 0;
+  for (auto _ : state) {
+    // Twin, step by step, each step mirrored by a bare step from the same state.
+    for (int k = 0; k < kChunkSteps; ++k) {
+      const NozzleOrientation target = program(twin.time());
+      if (target.pan_rad != twin.commanded_orientation().pan_rad) twin.command_nozzle(target);
+      copy_state(m, twin.data(), bare.get());
+      const auto t0 = Clock::now();
+      twin.step();
+      const auto t1 = Clock::now();
+      mj_step(m, bare.get());
+      const auto t2 = Clock::now();
+      twin_s += seconds(t0, t1);
+      bare_s += seconds(t1, t2);
+    }
+    // Bare, free-running from the twin's state for a chunk (its objects slow down and stop).
+    copy_state(m, twin.data(), bare.get());
+    const auto t3 = Clock::now();
+    for (int k = 0; k < kChunkSteps; ++k) mj_step(m, bare.get());
+    free_s += seconds(t3, Clock::now());
+    benchmark::DoNotOptimize(bare->qpos[0]);
+    steps += kChunkSteps;
+    if (twin.time() >= kEpisode_s) {
+      state.PauseTiming();
+      twin = make_twin(spec, timestep_s);
+      m = twin.model();
+      bare = make_data(m);
+      state.ResumeTiming();
+    }
+  }
+  const double n = static_cast<double>(steps);
+  state.counters["steps_per_s"] = n / twin_s;
+  state.counters["bare_steps_per_s"] = n / bare_s;
+  state.counters["rtf"] = n / twin_s * twin.timestep();
+  state.counters["ratio"] = bare_s / twin_s;
+  state.counters["ratio_free"] = free_s / twin_s;
+}
+
+void BM_TwinStep_tracers_25(benchmark::State& state) { run(state, tracers_25()); }
+void BM_TwinStep_tracers_25_1ms(benchmark::State& state) { run(state, tracers_25(), 0.001); }
+void BM_TwinStep_tracer_1(benchmark::State& state) { run(state, tracer_1()); }
+void BM_TwinStep_mixed_12(benchmark::State& state) { run(state, mixed_12()); }
+
+BENCHMARK(BM_TwinStep_tracers_25)
+    ->Name("BM_TwinStep/tracers_25")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK(BM_TwinStep_tracers_25_1ms)
+    ->Name("BM_TwinStep/tracers_25_1ms")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK(BM_TwinStep_tracer_1)
+    ->Name("BM_TwinStep/tracer_1")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(1.0);
+BENCHMARK(BM_TwinStep_mixed_12)
+    ->Name("BM_TwinStep/mixed_12")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+
+}  // namespace
+}  // namespace airtwin

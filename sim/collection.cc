@@ -1,0 +1,142 @@
+#include "sim/collection.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "common/errors.h"
+#include "common/units.h"
+#include "models/nozzle_geometry.h"
+#include "sim/random_stream.h"
+
+namespace airtwin {
+
+void CollectionOptions::validate() const {
+  if (object != "tracer" && object != "cotton") {
+    throw UsageError("--object: expected tracer or cotton, got '" + object + "'");
+  }
+  if (tilts_rad.empty()) throw UsageError("--tilts: give at least one tilt");
+  for (double t : tilts_rad) {
+    if (!(t >= 0 && t <= twin.nozzle.tilt_max_rad)) {
+      throw UsageError("--tilts: each tilt must be in [0, " +
+                       std::to_string(rad_to_deg(twin.nozzle.tilt_max_rad)) + "] deg, got " +
+                       std::to_string(rad_to_deg(t)));
+    }
+  }
+  if (per_tilt < 1 || per_tilt > 100000) {
+    throw UsageError("--per-tilt: expected a count in [1, 100000], got " +
+                     std::to_string(per_tilt));
+  }
+  if (!(min_distance_m > 0 && max_distance_m >= min_distance_m && max_distance_m < 2.0)) {
+    throw UsageError("start distances: expected 0 < min <= max < 2 m");
+  }
+  if (!(wait_s >= 0 && wait_s <= 600)) throw UsageError("--wait: expected seconds in [0, 600]");
+  if (!(record_s > 0 && record_s <= 600)) {
+    throw UsageError("--record: expected seconds in (0, 600]");
+  }
+  if (!(frame_rate_hz >= 1 && frame_rate_hz <= 1000)) {
+    throw UsageError("--frame-rate: expected a rate in [1, 1000] Hz");
+  }
+  if (threads < 0 || threads > 256) throw UsageError("--threads: expected a count in [0, 256]");
+}
+
+std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
+  o.validate();
+  const NozzleGeometry geometry;
+  std::vector<CollectionTrial> plan;
+  for (double tilt : o.tilts_rad) {
+    for (int k = 0; k < o.per_tilt; ++k) {
+      CollectionTrial trial;
+      trial.index = static_cast<int>(plan.size());
+      RandomStream rs(o.seed, RandomPurpose::kCollection, static_cast<uint64_t>(trial.index));
+      // Redraw until the start lies in the camera's view (a few draws at most for tilts <= 45).
+      for (int attempt = 0;; ++attempt) {
+        trial.target = {rs.uniform(-kPi, kPi), tilt};
+        const Eigen::Vector2d s = stagnation_point(geometry, trial.target);
+        const double a = rs.uniform(-kPi, kPi);
+        const double r = rs.uniform(o.min_distance_m, o.max_distance_m);
+        trial.start_W = s + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+        if (trial.start_W.norm() <= o.max_start_radius_m) break;
+        if (attempt == 1000) {
+          throw UsageError("no start position within " + std::to_string(o.max_start_radius_m) +
+                           " m of the origin at tilt " + std::to_string(rad_to_deg(tilt)) +
+                           " deg: the tilt is too large for the camera's view");
+        }
+      }
+      trial.twin_seed = static_cast<uint64_t>(rs.uniform() * 0x1.0p53);
+      plan.push_back(trial);
+    }
+  }
+  return plan;
+}
+
+Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
+                                const AirFieldModel& field) {
+  SceneSpec spec;
+  spec.source = "collection trial " + std::to_string(trial.index);
+  spec.objects.push_back({std::to_string(trial.index), o.object, trial.start_W, std::nullopt});
+  TwinParameters params = o.twin;
+  params.initial_orientation = o.idle;  // (i) placed with the nozzle idle, jet off
+  params.jet_on_at_start = false;
+  Twin twin(spec, params, field, trial.twin_seed);
+
+  twin.set_jet(true);  // (ii) jet on, wait for the steady state
+  twin.advance(o.wait_s);
+  twin.command_nozzle(trial.target);  // (iii) re-aim and record
+  const double t0 = twin.time();
+  const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
+
+  Trajectory tr;
+  tr.id = std::to_string(trial.index);
+  tr.object = o.object;
+  for (int k = 0; k <= frames; ++k) {
+    const double t = k / o.frame_rate_hz;
+    twin.advance_to(t0 + t);
+    tr.samples.push_back({t, twin.object_state(0).p_W, trial.target});
+  }
+  return tr;
+}
+
+TrajectorySet run_collection(const CollectionOptions& o, const AirFieldModel& field,
+                             const std::function<void(int, int)>& progress) {
+  const std::vector<CollectionTrial> plan = plan_collection(o);
+  const int n = static_cast<int>(plan.size());
+  TrajectorySet set;
+  set.trajectories.resize(plan.size());
+
+  int threads = o.threads == 0 ? static_cast<int>(std::thread::hardware_concurrency()) : o.threads;
+  threads = std::clamp(threads, 1, n);
+  std::atomic<int> next{0};
+  std::mutex mutex;  // guards done, first_error and the progress callback
+  int done = 0;
+  std::exception_ptr first_error;
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        Trajectory tr = run_collection_trial(plan[i], o, field);
+        const std::lock_guard lock(mutex);
+        set.trajectories[i] = std::move(tr);
+        ++done;
+        if (progress) progress(done, n);
+      } catch (...) {
+        const std::lock_guard lock(mutex);
+        if (!first_error) first_error = std::current_exception();
+        next = n;  // stop handing out trials
+      }
+    }
+  };
+  if (threads == 1) {
+    worker();
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+    for (std::thread& t : pool) t.join();
+  }
+  if (first_error) std::rethrow_exception(first_error);
+  return set;
+}
+
+}  // namespace airtwin

@@ -1,0 +1,72 @@
+#pragma once
+// Data collection in the twin, as Appendix D did it on the rig: for each trial, (i) an object is
+// placed on the floor with the nozzle idle (pan -90 deg, tilt 50 deg) so that it stays put;
+// (ii) the jet is switched on and left 8 s to reach steady state; (iii) the nozzle is turned to
+// the trial's orientation and the object is recorded by the top camera for 2 s at 40 Hz. Objects
+// are placed 20-58 cm from the trial's stagnation point ("at these distances static pressure
+// remains low but air velocity is sufficient to set the objects in motion"), 50 trials per tilt.
+//
+// The output is the trajectory CSV of the identification (models/trajectory_data.h): one
+// trajectory per trial, t = 0 at the re-aim, the command in force (the trial's orientation) on
+// every row, positions from the twin's truth (the camera and detection pipeline add their own
+// errors on top, see the vision folder).
+//
+// Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
+// the trial's index only, so a trial's data do not depend on the thread count or on other trials.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "models/air_field.h"
+#include "models/trajectory_data.h"
+#include "sim/twin.h"
+
+namespace airtwin {
+
+struct CollectionOptions {
+  std::string object = "tracer";             ///< "tracer" | "cotton"
+  std::vector<double> tilts_rad = {0.0, 0.39269908169872414};  ///< 0 and 22.5 deg
+  int per_tilt = 50;                         ///< trials per tilt
+  std::uint64_t seed = 1;
+  double min_distance_m = 0.20;              ///< start distance from the trial's s
+  double max_distance_m = 0.58;
+  /// Starts farther than this from the origin are redrawn (the camera sees +-1.35 m).
+  double max_start_radius_m = 1.2;
+  NozzleOrientation idle{-1.5707963267948966, 0.8726646259971648};  ///< pan -90, tilt 50 deg
+  double wait_s = 8.0;                       ///< jet on at idle before the re-aim (s)
+  double record_s = 2.0;                     ///< recording after the re-aim (s)
+  double frame_rate_hz = 40.0;
+  TwinParameters twin;                       ///< the twin's physics (effects applied here)
+  int threads = 1;                           ///< twins run in parallel (0: one per core)
+
+  /// Throws UsageError naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// One trial of the plan.
+struct CollectionTrial {
+  int index = 0;
+  NozzleOrientation target;                       ///< the recorded orientation (rad)
+  Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< where the object is placed (m)
+  std::uint64_t twin_seed = 0;                    ///< turbulence and shape of this trial
+};
+
+/// The trials: for each tilt in order, per_tilt trials with pan uniform in [-180, 180) deg and the
+/// object at a uniform distance in [min, max] from the trial's s in a uniform direction.
+std::vector<CollectionTrial> plan_collection(const CollectionOptions& options);
+
+/// Runs one trial: its recorded trajectory (id = the trial index). Throws SimulationError when
+/// the twin fails.
+Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& options,
+                                const AirFieldModel& field);
+
+/// Runs the whole plan (in parallel when options.threads != 1); trajectories in plan order.
+/// `progress(done, total)` (optional) is called after each finished trial, from one thread at a
+/// time.
+TrajectorySet run_collection(const CollectionOptions& options, const AirFieldModel& field,
+                             const std::function<void(int, int)>& progress = {});
+
+}  // namespace airtwin
