@@ -94,6 +94,7 @@ void run_calibrate(CalibrateArgs a) {
                       {"end_position_mape_by_tilt", by_tilt},
                       {"worst_relative_error", s.worst_relative_error}});
   }
+  if (!c.stopped.empty()) std::printf("stopped early: %s\n", c.stopped.c_str());
   const ObjectTypeParameters p = ObjectTypeParameters::from_dynamics(c.physics, 1.0, 1.0);
   const nlohmann::ordered_json j = {
       {"object", o.collection.object},
@@ -103,8 +104,10 @@ void run_calibrate(CalibrateArgs a) {
       {"air_gain", p.air_gain},
       {"kinetic_friction", p.kinetic_friction},
       {"per_tilt", o.collection.per_tilt},
+      {"skip_transient_s", o.identification.pairs.transient_s},
       {"seed", o.collection.seed},
-      {"rounds", rounds}};
+      {"rounds", rounds},
+      {"stopped", c.stopped.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.stopped)}};
   write_text_file(a.out, j.dump(2) + "\n");
   std::printf("best physics (%.4f, %.4f, %.4f): drag rate %.4f 1/s, air gain %.4f, mu_k %.4f; "
               "written to %s\n",
@@ -132,6 +135,9 @@ void add_calibrate_dynamics_command(CLI::App& app) {
   sub->add_option("--seed", o.collection.seed, "Seed of every round's collection")
       ->capture_default_str();
   sub->add_option("--threads", o.collection.threads, "Twins in parallel (0: one per core)")
+      ->capture_default_str();
+  sub->add_option("--skip-transient", o.identification.pairs.transient_s,
+                  "Identification: seconds after the re-aim not used (see 'identify --help')")
       ->capture_default_str();
   sub->add_option("--out", args->out, "Output JSON record")->required();
   sub->callback([args] { run_calibrate(*args); });

@@ -14,6 +14,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "sim/collection.h"
+#include "sim/effects.h"
 
 namespace airtwin::cli {
 namespace {
@@ -23,6 +24,7 @@ struct CollectArgs {
   std::string table;
   std::string out;
   bool quiet = false;
+  std::vector<std::string> effects;
   CollectionOptions options;
 };
 
@@ -42,6 +44,9 @@ std::vector<double> parse_tilts(const std::string& text) {
 void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
   o.tilts_rad = parse_tilts(a.tilts);
+  std::vector<Effect> effects;
+  for (const std::string& text : a.effects) effects.push_back(parse_effect(text));
+  apply_effects(effects, &o.twin);
   o.validate();
   const AirFieldModel field = a.table.empty()
                                   ? AirFieldModel::with_default_table()
@@ -56,9 +61,11 @@ void run_collect(CollectArgs a) {
       });
   if (progress) progress->finish();
   write_text_file(a.out, trajectory_csv(set));
-  std::printf("collected %d %s trajectories (%d per tilt, seed %llu) into %s\n", total,
+  std::string effect_list;
+  for (const Effect& e : effects) effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
+  std::printf("collected %d %s trajectories (%d per tilt, seed %llu%s%s) into %s\n", total,
               o.object.c_str(), o.per_tilt, static_cast<unsigned long long>(o.seed),
-              a.out.c_str());
+              effects.empty() ? "" : ", effects ", effect_list.c_str(), a.out.c_str());
 }
 
 }  // namespace
@@ -87,6 +94,9 @@ void add_collect_command(CLI::App& app) {
   sub->add_option("--table", args->table,
                   "Coefficient table CSV of the twin's air field; default: the built-in table");
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
+  sub->add_option("--effect", args->effects,
+                  "Switch on a physical effect the nominal model lacks, NAME or "
+                  "NAME:key=value,...; repeatable. Effects:\n" + effect_catalogue());
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run_collect(*args); });
 }

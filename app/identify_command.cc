@@ -11,6 +11,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "common/errors.h"
+#include "common/units.h"
 #include "models/identification.h"
 
 namespace airtwin::cli {
@@ -24,6 +25,7 @@ struct IdentifyArgs {
   std::string method = "robust-esindy";
   std::string out;
   bool no_glitch_repair = false;
+  double max_direction_error_deg = 30.0;
   IdentificationOptions options;
 };
 
@@ -32,6 +34,8 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
               m.object.empty() ? "series" : m.object.c_str(), m.method.c_str(), m.n_pairs,
               m.n_samples, m.n_dropped);
   if (m.n_glitches_repaired) std::printf(", %zu glitched frames repaired", m.n_glitches_repaired);
+  if (m.n_off_radial) std::printf(", %zu not radial from s", m.n_off_radial);
+  if (m.n_transient) std::printf(", %zu in transients", m.n_transient);
   std::printf(")\n  dv/dt =");
   bool first = true;
   for (int j = 0; j < kSindyTerms; ++j) {
@@ -61,9 +65,13 @@ void run_identify(IdentifyArgs a) {
   o.pairs.repair_glitches = !a.no_glitch_repair;
   require_range(o.sindy.lambda, 0, 10, "--lambda", "a threshold in [0, 10]");
   require_range(o.sindy.bootstraps, 1, 10000, "--bootstraps", "a count in [1, 10000]");
+  require_range(o.sindy.ridge, 0, 1e6, "--ridge", "a penalty in [0, 1e6]");
   require_range(o.pairs.smoothing_half_window, 0, 50, "--smooth",
                 "a half window in [0, 50] samples");
   require_range(o.pairs.stationary_speed_mps, 0, 1, "--stationary-speed", "a speed in [0, 1] m/s");
+  require_range(o.pairs.transient_s, 0, 60, "--skip-transient", "seconds in [0, 60]");
+  require_range(a.max_direction_error_deg, 1, 180, "--max-direction-error", "an angle in [1, 180] deg");
+  o.pairs.max_direction_error_rad = deg_to_rad(a.max_direction_error_deg);
   if (a.data.empty() == a.series.empty()) {
     throw UsageError("give either a trajectory CSV (positional FILE) or --series FILE, not " +
                      std::string(a.data.empty() ? "neither" : "both"));
@@ -128,6 +136,9 @@ void add_identify_command(CLI::App& app) {
   sub->add_option("--lambda", o.sindy.lambda,
                   "Threshold on the discrete-time coefficients (sequential thresholding)")
       ->capture_default_str();
+  sub->add_option("--ridge", o.sindy.ridge,
+                  "Ridge penalty of the term-selection fits (refitted without it); 0: none")
+      ->capture_default_str();
   sub->add_option("--bootstraps", o.sindy.bootstraps, "E-SINDy bootstrap count")
       ->capture_default_str();
   sub->add_option("--seed", o.sindy.seed, "Seed of the bootstraps")->capture_default_str();
@@ -136,6 +147,14 @@ void add_identify_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--stationary-speed", o.pairs.stationary_speed_mps,
                   "Speeds below this (m/s) count as at rest and are dropped")
+      ->capture_default_str();
+  sub->add_option("--skip-transient", o.pairs.transient_s,
+                  "Seconds after a command change (and after each trajectory's first frame) whose "
+                  "samples are not used: the jet is still sweeping there")
+      ->capture_default_str();
+  sub->add_option("--max-direction-error", args->max_direction_error_deg,
+                  "Moving samples more than this (deg) off the radial direction from s are not "
+                  "used (eq. 9); 180 keeps all")
       ->capture_default_str();
   sub->add_flag("--no-glitch-repair", args->no_glitch_repair,
                 "Do not repair single-frame position glitches before differencing");

@@ -24,6 +24,9 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
   m.n_trajectories = rep.n_trajectories;
   m.n_glitches_repaired = rep.n_glitches_repaired;
   m.n_short_trajectories = rep.n_short_trajectories;
+  m.n_off_radial = rep.n_off_radial;
+  m.n_transient = rep.n_transient;
+  m.transient_s = o.pairs.transient_s;
   m.dt_s = d.dt_s;
   m.lambda = o.sindy.lambda;
   m.bootstraps =

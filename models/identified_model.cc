@@ -83,6 +83,9 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["n_trajectories"] = m.n_trajectories;
   j["n_glitches_repaired"] = m.n_glitches_repaired;
   j["n_short_trajectories"] = m.n_short_trajectories;
+  j["n_off_radial"] = m.n_off_radial;
+  j["n_transient"] = m.n_transient;
+  j["transient_s"] = m.transient_s;
   j["dt_s"] = m.dt_s;
   j["lambda"] = m.lambda;
   j["bootstraps"] = m.bootstraps;
@@ -165,6 +168,8 @@ IdentifiedModel parse_identified_model_json(const std::string& text, const std::
   m.n_trajectories = count("n_trajectories");
   m.n_glitches_repaired = count("n_glitches_repaired");
   m.n_short_trajectories = count("n_short_trajectories");
+  m.n_off_radial = count("n_off_radial");
+  m.n_transient = count("n_transient");
   m.n_mape_trajectories = count("n_mape_trajectories");
   m.n_mape_excluded = count("n_mape_excluded");
   if (j.contains("dt_s")) m.dt_s = number(j.at("dt_s"), "dt_s");

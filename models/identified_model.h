@@ -8,7 +8,7 @@
 // speed series has no positions), n_samples, n_dropped; then the details: eq8 ({xi1, xi2, xi3}
 // when only the terms 1, v, vair are active, else null), r2_change, end_position_mape_by_tilt,
 // n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories, n_glitches_repaired,
-// n_short_trajectories, dt_s, lambda, bootstraps, seed, smoothing_half_window, position_noise_m,
+// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, bootstraps, seed, smoothing_half_window, position_noise_m,
 // positions_smoothed, stationary_speed_mps, source.
 
 #include <Eigen/Core>
@@ -36,6 +36,8 @@ struct IdentifiedModel {
   std::map<double, double> end_position_mape_by_tilt_pct;  ///< tilt (deg) -> MAPE (%)
   size_t n_samples = 0, n_dropped = 0, n_pairs = 0, n_trajectories = 0;
   size_t n_glitches_repaired = 0, n_short_trajectories = 0;
+  size_t n_off_radial = 0, n_transient = 0;  ///< moving samples not used (docs/identification.md)
+  double transient_s = 0.0;                  ///< the --skip-transient setting
   size_t n_mape_trajectories = 0, n_mape_excluded = 0;
   double dt_s = 0.0;
   double lambda = 0.0;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/units.h"
 #include "models/savitzky_golay.h"
 
 namespace airtwin {
@@ -53,6 +54,9 @@ Eigen::Vector2d robust_prediction(const std::vector<TrajectorySample>& s, size_t
   return best;
 }
 
+// Why a moving sample is not used (stationary ones are counted apart).
+constexpr char kUsable = 0, kOffRadial = 1, kTransient = 2;
+
 // Collects regression pairs from speed series, one moving stretch at a time.
 struct PairBuilder {
   std::vector<double> v, va, vn, van;
@@ -61,18 +65,27 @@ struct PairBuilder {
   // smooths each run on its own (so no stop or start is smeared into the motion), and keeps the
   // pairs (k, k+1) inside a run whose smoothed speeds stay above the threshold.
   void add_series(std::span<const double> speed, std::span<const double> air,
-                  const SpeedPairOptions& o, SpeedPairReport* rep) {
+                  const SpeedPairOptions& o, SpeedPairReport* rep,
+                  std::span<const char> excluded = {}) {
     const size_t n = speed.size();
     rep->n_samples += n;
+    auto moving = [&](size_t i) {
+      return speed[i] >= o.stationary_speed_mps && (excluded.empty() || !excluded[i]);
+    };
     size_t k = 0;
     while (k < n) {
-      if (speed[k] < o.stationary_speed_mps) {
-        ++rep->n_dropped;
+      if (!moving(k)) {
+        if (speed[k] < o.stationary_speed_mps)
+          ++rep->n_dropped;
+        else if (excluded[k] == kTransient)
+          ++rep->n_transient;
+        else
+          ++rep->n_off_radial;
         ++k;
         continue;
       }
       size_t end = k;
-      while (end < n && speed[end] >= o.stationary_speed_mps) ++end;
+      while (end < n && moving(end)) ++end;
       const std::vector<double> smooth =
           savitzky_golay(speed.subspan(k, end - k), o.smoothing_half_window, o.smoothing_order);
       for (size_t i = 0; i < smooth.size(); ++i) {
@@ -211,13 +224,35 @@ SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFiel
       y = savitzky_golay(y, o.smoothing_half_window, o.smoothing_order);
       for (size_t k = 0; k < n; ++k) s[k].p_W = {x[k], y[k]};
     }
-    // Central-difference speeds and the air speed at each interior frame.
+    // Central-difference speeds and the air speed at each interior frame, and whether the motion
+    // is radial from s as eq. (9) says.
     std::vector<double> speed(n - 2), air(n - 2);
+    std::vector<char> excluded(n - 2, kUsable);
+    const double min_cos = std::cos(o.max_direction_error_rad);
     for (size_t k = 1; k + 1 < n; ++k) {
-      speed[k - 1] = (s[k + 1].p_W - s[k - 1].p_W).norm() / (2.0 * dt);
-      air[k - 1] = field.at(s[k].nozzle).speed(s[k].p_W);
+      const Eigen::Vector2d velocity = (s[k + 1].p_W - s[k - 1].p_W) / (2.0 * dt);
+      const OrientedField f = field.at(s[k].nozzle);
+      speed[k - 1] = velocity.norm();
+      air[k - 1] = f.speed(s[k].p_W);
+      const Eigen::Vector2d out = s[k].p_W - f.stagnation_point();
+      if (o.max_direction_error_rad < kPi && speed[k - 1] > 0 && out.norm() > 0) {
+        if (velocity.dot(out) < min_cos * speed[k - 1] * out.norm()) excluded[k - 1] = kOffRadial;
+      }
     }
-    pairs.add_series(speed, air, run_options, &rep);
+    // The transient after a command change (and after the first frame, where the recording of a
+    // new command starts): the servos are still turning and the jet sweeping, so the air is not
+    // the recorded command's. Samples within transient_s of it are not used.
+    if (o.transient_s > 0) {
+      double change_t = s[0].t_s;
+      for (size_t k = 1; k + 1 < n; ++k) {
+        if (s[k].nozzle.pan_rad != s[k - 1].nozzle.pan_rad ||
+            s[k].nozzle.tilt_rad != s[k - 1].nozzle.tilt_rad) {
+          change_t = s[k].t_s;
+        }
+        if (s[k].t_s - change_t < o.transient_s) excluded[k - 1] = kTransient;
+      }
+    }
+    pairs.add_series(speed, air, run_options, &rep, excluded);
   }
   rep.n_pairs = pairs.v.size();
   if (report) *report = rep;

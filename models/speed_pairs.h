@@ -19,7 +19,11 @@
 //  2b. Speeds by central differences, v_k = |p_{k+1} - p_{k-1}| / (2 dt) (Appendix D).
 //  3. Air speed at p_k from the field model under the nozzle command in force at frame k.
 //  4. Stationary samples dropped (speed below the threshold: dry friction is discontinuous at zero
-//     speed), counted in n_dropped. What remains splits into runs of consecutive moving samples.
+//     speed), counted in n_dropped; so are samples moving more than 30 deg off the radial
+//     direction from s (eq. 9 does not describe them: the jet was still sweeping toward the
+//     recorded orientation), counted in n_off_radial; and, when asked (transient_s), samples
+//     too soon after a command change, counted in n_transient. What remains splits into runs of
+//     consecutive moving samples.
 //  5. Each run's speeds smoothed on their own by Savitzky-Golay (models/savitzky_golay.h: cubic
 //     over +-4 samples by default), against the errors-in-variables bias of noisy speeds in the
 //     regressors. Pairs (k, k+1) inside a run whose smoothed speeds are both above the threshold.
@@ -42,6 +46,15 @@ struct SpeedPairOptions {
   /// Positions are smoothed (same Savitzky-Golay window) before differencing when the estimated
   /// detection noise exceeds this; noise-free data are left exactly as measured.
   double position_noise_floor_m = 2e-5;
+  /// Samples moving more than this away from the radial direction from s (eq. 9) are not used:
+  /// the air there is not the recorded command's (the jet sweeping over the floor while the
+  /// servos turn, section IV: "transient effects resulting from the jet changing direction").
+  /// pi switches the check off.
+  double max_direction_error_rad = 0.5235987755982988;  // 30 deg
+  /// Samples within this time (s) after a command change, or after a trajectory's first frame,
+  /// are not used: the servos are still turning and the field still sweeping toward the recorded
+  /// command. 0 (the paper's preprocessing) uses everything; see docs/identification.md.
+  double transient_s = 0.0;
   int smoothing_half_window = 4;        ///< Savitzky-Golay half window (samples); 0: none
   int smoothing_order = 3;              ///< Savitzky-Golay polynomial degree
 };
@@ -52,6 +65,8 @@ struct SpeedPairReport {
   size_t n_samples = 0;  ///< speed samples computed (interior frames)
   size_t n_pairs = 0;    ///< pairs kept for regression
   size_t n_dropped = 0;  ///< speed samples dropped as stationary (raw or after smoothing)
+  size_t n_off_radial = 0;  ///< moving samples dropped as not radial from s (step 4)
+  size_t n_transient = 0;   ///< moving samples dropped as within transient_s of a command change
   size_t n_glitches_repaired = 0;
   size_t n_short_trajectories = 0;  ///< fewer than 4 frames: no pair possible
   double position_noise_m = 0.0;     ///< estimated detection noise (m, per axis; trajectories)

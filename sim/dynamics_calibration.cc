@@ -35,24 +35,30 @@ DynamicsCalibration calibrate_dynamics(
     const TrajectorySet data = run_collection(collection, field);
     const IdentifiedModel m =
         identify_trajectories(data, collection.object, field, o.identification);
-    if (!m.is_eq8()) {
-      throw InputError("calibration round " + std::to_string(round + 1) + " (physics " +
-                       std::to_string(x.xi1) + ", " + std::to_string(x.xi2) + ", " +
-                       std::to_string(x.xi3) + "): " + m.eq8_note());
-    }
+    std::string problem;
+    if (!m.is_eq8()) problem = m.eq8_note();
     DynamicsCalibrationStep step;
     step.physics = x;
-    step.identified = m.eq8();
-    step.r2 = m.r2;
-    step.end_position_mape_pct = m.end_position_mape_pct.value_or(NAN);
-    step.mape_by_tilt_pct = m.end_position_mape_by_tilt_pct;
-    const double e1 = step.identified.xi1 / o.target.xi1, e2 = step.identified.xi2 / o.target.xi2,
-                 e3 = step.identified.xi3 / o.target.xi3;
-    step.worst_relative_error = std::max({std::abs(e1 - 1), std::abs(e2 - 1), std::abs(e3 - 1)});
-    if (!(e1 > 0 && e2 > 0 && e3 > 0)) {
-      throw InputError("calibration round " + std::to_string(round + 1) +
-                       ": an identified coefficient has the wrong sign; cannot correct it");
+    double e1 = 0, e2 = 0, e3 = 0;
+    if (problem.empty()) {
+      step.identified = m.eq8();
+      step.r2 = m.r2;
+      step.end_position_mape_pct = m.end_position_mape_pct.value_or(NAN);
+      step.mape_by_tilt_pct = m.end_position_mape_by_tilt_pct;
+      e1 = step.identified.xi1 / o.target.xi1;
+      e2 = step.identified.xi2 / o.target.xi2;
+      e3 = step.identified.xi3 / o.target.xi3;
+      if (!(e1 > 0 && e2 > 0 && e3 > 0)) problem = "an identified coefficient has the wrong sign";
     }
+    if (!problem.empty()) {
+      const std::string where = "calibration round " + std::to_string(round + 1) + " (physics " +
+                                std::to_string(x.xi1) + ", " + std::to_string(x.xi2) + ", " +
+                                std::to_string(x.xi3) + "): " + problem;
+      if (result.history.empty()) throw InputError(where);
+      result.stopped = where;
+      break;
+    }
+    step.worst_relative_error = std::max({std::abs(e1 - 1), std::abs(e2 - 1), std::abs(e3 - 1)});
     result.history.push_back(step);
     if (step.worst_relative_error < best) {
       best = step.worst_relative_error;

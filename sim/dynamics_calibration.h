@@ -16,6 +16,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "models/identification.h"
@@ -43,6 +44,9 @@ struct DynamicsCalibrationStep {
 struct DynamicsCalibration {
   ObjectDynamics physics;  ///< the round with the smallest worst relative error
   std::vector<DynamicsCalibrationStep> history;
+  /// Empty, or why the iteration stopped early (an identification without the form of eq. (8)
+  /// or with a wrong sign: nothing to correct from). The best round so far is kept.
+  std::string stopped;
 };
 
 /// The physics triple of an object type's parameters (the inverse of from_dynamics).
@@ -51,8 +55,9 @@ ObjectDynamics physics_of(const ObjectTypeParameters& p, double gravity_mps2 = 9
 void set_physics(const ObjectDynamics& physics, ObjectTypeParameters* p,
                  double gravity_mps2 = 9.81);
 
-/// Runs the iteration. Throws InputError when an identification does not have the form of
-/// eq. (8) (the data cannot be calibrated against it). `progress(step, round, rounds)` after each
+/// Runs the iteration. Throws InputError when the very first identification does not have the
+/// form of eq. (8) with the target's signs (nothing to start from); a later such round ends the
+/// iteration (see DynamicsCalibration::stopped). `progress(step, round, rounds)` after each
 /// round (1-based).
 DynamicsCalibration calibrate_dynamics(
     const DynamicsCalibrationOptions& options, const AirFieldModel& field,

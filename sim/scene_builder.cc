@@ -16,6 +16,13 @@ namespace {
 // Tracer collider: a disc of the footprint's radius, this high (m). Thin enough to sit inside the
 // hemisphere, thick enough for cylinder-cylinder contacts between neighbours.
 constexpr double kTracerColliderHeight = 0.004;
+// Cotton wads do not roll: fibres snag and the wad is flat. Without rolling friction the
+// composite's rounded hull rolled like a ball for some rest shapes (seeded), travelling a third
+// farther than eq. (8) allows; condim 6 with a rolling-friction length of 3 cm (resisting torque
+// <= 0.03 m x N, more than the air's ~0.015 m x mu N tipping moment) stops that, and the wads then
+// follow eq. (8) like the tracers (docs/twin.md).
+constexpr double kCottonTorsionalFriction = 0.005;  // m
+constexpr double kCottonRollingFriction = 0.03;     // m
 // Cotton composite: 3 x 3 x 3 grid -> 26 surface elements; element sphere radius as a fraction
 // of the wad radius (the rest is the composite spacing).
 constexpr int kCottonCount = 3;
@@ -139,8 +146,9 @@ std::string cotton_body(size_t i, const ObjectSpec& o, double yaw, const ObjectT
     << "  <composite type=\"ellipsoid\" count=\"" << kCottonCount << ' ' << kCottonCount << ' '
     << kCottonCount << "\" spacing=\"" << num(spacing) << "\" prefix=\"" << name << "_\">\n"
     << "    <geom type=\"sphere\" size=\"" << num(element_radius) << "\" mass=\""
-    << num(p.mass_kg / elements) << "\" friction=\"" << num(p.kinetic_friction)
-    << " 0.005 0.0001\" contype=\"" << own_bit << "\" conaffinity=\"" << affinity << "\" rgba=\"0.95 0.95 0.92 1\" group=\"3\"/>\n"
+    << num(p.mass_kg / elements) << "\" friction=\"" << num(p.kinetic_friction) << ' '
+    << num(kCottonTorsionalFriction) << ' ' << num(kCottonRollingFriction)
+    << "\" condim=\"6\" contype=\"" << own_bit << "\" conaffinity=\"" << affinity << "\" rgba=\"0.95 0.95 0.92 1\" group=\"3\"/>\n"
     << "    <joint kind=\"main\" stiffness=\"0.05\" damping=\"0.0005\"/>\n"
     << "    <skin rgba=\"0.95 0.95 0.92 1\" inflate=\"" << num(element_radius)
     << "\" subgrid=\"2\"/>\n"
@@ -260,6 +268,11 @@ void validate_scene(const SceneSpec& spec, const SceneParameters& params) {
     throw InputError("scene parameters: timestep_s must be in [0.0001, 0.005], got " +
                      num(params.timestep_s));
   }
+  if (!(std::isfinite(params.friction_impedance_ratio) && params.friction_impedance_ratio >= 1 &&
+        params.friction_impedance_ratio <= 1000)) {
+    throw InputError("scene parameters: friction_impedance_ratio must be in [1, 1000], got " +
+                     num(params.friction_impedance_ratio));
+  }
   for (double v : {params.floor_half_size_m, params.nozzle_height_m, params.camera_height_m,
                    params.camera_half_view_m}) {
     if (!(std::isfinite(v) && v > 0)) {
@@ -340,7 +353,8 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
   s << "<mujoco model=\"airtwin\">\n"
     << "<compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
     << "<option timestep=\"" << num(params.timestep_s)
-    << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"" << num(gravity.x()) << ' '
+    << "\" integrator=\"Euler\" cone=\"elliptic\" impratio=\""
+    << num(params.friction_impedance_ratio) << "\" gravity=\"" << num(gravity.x()) << ' '
     << num(gravity.y()) << ' ' << num(gravity.z()) << "\"/>\n"
     << "<size njmax=\"" << njmax << "\" nconmax=\"" << nconmax << "\"/>\n"
     << "<visual>\n"

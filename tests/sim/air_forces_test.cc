@@ -65,7 +65,8 @@ TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   // a = (c/m)(k J u(p) - v) = -xi1 (xi2/-xi1 J u - v) = xi1 v + xi2 J u: eq. (8) without friction.
   const Eigen::Vector2d expected = t.drag_rate_per_s * (t.air_gain * 0.7 * field.velocity(p) - v);
   EXPECT_LT((planar_acceleration(f.data.get()) - expected).norm(), 1e-9 * expected.norm());
-  const Eigen::Vector2d eq8 = kTracerDynamics.xi1 * v + kTracerDynamics.xi2 * 0.7 * field.velocity(p);
+  const ObjectDynamics xi = t.dynamics();
+  const Eigen::Vector2d eq8 = xi.xi1 * v + xi.xi2 * 0.7 * field.velocity(p);
   EXPECT_LT((planar_acceleration(f.data.get()) - eq8).norm(), 1e-9 * eq8.norm());
   EXPECT_TRUE(air.fault().empty());
 }

@@ -85,8 +85,8 @@ TEST(SceneBuilder, TracerIsAHemisphereOnAThinCollider) {
   EXPECT_EQ(m->geom_conaffinity[shell], 0);
   // The compiler recentres the mesh on its volume centroid, which for a solid hemisphere is 3R/8.
   EXPECT_NEAR(m->geom_pos[3 * shell + 2], 3.0 / 8.0 * r, 2e-4);
-  // Kinetic friction from eq. (8): mu = -xi3 / g.
-  EXPECT_NEAR(m->geom_friction[3 * collider], 8.53 / 9.81, 1e-6);
+  // Kinetic friction from the physics triple: mu = -x3 / g.
+  EXPECT_NEAR(m->geom_friction[3 * collider], -kTracerTwinPhysics.xi3 / 9.81, 1e-6);
 }
 
 TEST(SceneBuilder, NozzleExitAndJetAxisFollowEquationOne) {
@@ -224,7 +224,9 @@ TEST(ObjectTypeParameters, ReproduceTheIdentifiedDynamics) {
     EXPECT_NEAR(back.xi2, xi.xi2, 1e-12);
     EXPECT_NEAR(back.xi3, xi.xi3, 1e-12);
   }
-  EXPECT_NEAR(ObjectTypeParameters::tracer().air_gain, 4.26 / 2.66, 1e-12);
+  EXPECT_NEAR(ObjectTypeParameters::tracer().air_gain,
+              kTracerTwinPhysics.xi2 / -kTracerTwinPhysics.xi1, 1e-12);
+  EXPECT_NEAR(ObjectTypeParameters::cotton().dynamics().xi3, kCottonTwinPhysics.xi3, 1e-12);
   EXPECT_GT(ObjectTypeParameters::tracer().static_friction_ratio, 1.0);
 }
 

@@ -114,7 +114,8 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
       Twin twin(spec, p, field_model(), 3);
       twin.settle_jet();
       const Eigen::Vector2d p0 = twin.object_state(0).p_W;
-      const std::vector<double> truth = eq8_reference(field, kTracerDynamics, p0, 2.0, 0.025);
+      const std::vector<double> truth =
+          eq8_reference(field, p.scene.tracer.dynamics(), p0, 2.0, 0.025);
       double worst = 0.0, off_ray = 0.0;
       for (size_t i = 1; i < truth.size(); ++i) {
         twin.advance_to(0.025 * static_cast<double>(i));
@@ -133,7 +134,9 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
       // 0.4-2.3 mm (at 1 ms: 1.4-3.5 %, 1-3.3 mm); the disc rocks and spins a little on MuJoCo's
       // soft contacts while it slides. Tolerance: 4 % + 2 mm, 5 mm.
       EXPECT_LT(worst, 0.04 * travel + 0.002);
-      EXPECT_LT(off_ray, 0.005);
+      // Off the ray: the disc's rocking turns it a little while it slides; with the calibrated
+      // drag it travels up to 0.8 m and ends up to 9 mm off (1.6 %). Tolerance: 2 % + 2 mm.
+      EXPECT_LT(off_ray, 0.02 * travel + 0.002);
       expect_no_warnings(twin);
     }
   }
