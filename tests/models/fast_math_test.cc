@@ -51,5 +51,18 @@ TEST(FastMath, ExpRelativeErrorOverTheFieldsRange) {
   EXPECT_TRUE(std::isfinite(fast_exp(1e6)));
 }
 
+TEST(FastMath, EstrinExpMatchesLibmAndHorner) {
+  double worst = 0, worst_vs_horner = 0;
+  for (int i = 0; i <= 1'400'000; ++i) {
+    const double x = -700.0 + i * 1e-3;
+    worst = std::max(worst, std::abs(fast_exp_estrin(x) / std::exp(x) - 1.0));
+    worst_vs_horner = std::max(worst_vs_horner, std::abs(fast_exp_estrin(x) / fast_exp(x) - 1.0));
+  }
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_LT(worst_vs_horner, 1e-15);
+  EXPECT_EQ(fast_exp_estrin(0.0), 1.0);
+  EXPECT_TRUE(std::isfinite(fast_exp_estrin(1e6)));
+}
+
 }  // namespace
 }  // namespace airtwin
