@@ -32,13 +32,7 @@ nlohmann::ordered_json triple(const ObjectDynamics& d) {
 
 void run_calibrate(CalibrateArgs a) {
   DynamicsCalibrationOptions& o = a.options;
-  o.collection.tilts_rad.clear();
-  std::stringstream ss(a.tilts);
-  for (std::string item; std::getline(ss, item, ',');) {
-    const auto v = parse_finite_double(item);
-    if (!v) throw UsageError("--tilts: expected comma-separated degrees, got '" + item + "'");
-    o.collection.tilts_rad.push_back(deg_to_rad(*v));
-  }
+  o.collection.tilts_rad = parse_degree_list(a.tilts, "--tilts");
   o.collection.validate();
   o.target = o.collection.object == "tracer" ? kTracerDynamics : kCottonDynamics;
   if (!a.target.empty()) {

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "common/csv.h"
 #include "common/errors.h"
+#include "common/units.h"
 
 namespace airtwin::cli {
 
@@ -45,6 +47,18 @@ void write_text_file(const std::string& path, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw InputError(path + ": write failed");
+}
+
+std::vector<double> parse_degree_list(const std::string& text, const std::string& flag) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const auto v = parse_finite_double(item);
+    if (!v) throw UsageError(flag + ": expected comma-separated degrees, got '" + item + "'");
+    out.push_back(deg_to_rad(*v));
+  }
+  if (out.empty()) throw UsageError(flag + ": give at least one value");
+  return out;
 }
 
 }  // namespace airtwin::cli

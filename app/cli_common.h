@@ -3,11 +3,16 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace airtwin::cli {
 
 /// Parses "X,Y" (two finite numbers) for flag `flag`; throws UsageError naming the flag.
 Eigen::Vector2d parse_xy(const std::string& text, const std::string& flag);
+
+/// Parses "A,B,..." (finite numbers in degrees) for flag `flag` into radians; throws UsageError
+/// naming the flag and the bad item, or when the list is empty.
+std::vector<double> parse_degree_list(const std::string& text, const std::string& flag);
 
 /// Throws UsageError "<flag>: expected <what>, got <v>" unless v is finite and in [lo, hi].
 void require_range(double v, double lo, double hi, const std::string& flag,

@@ -28,22 +28,9 @@ struct CollectArgs {
   CollectionOptions options;
 };
 
-std::vector<double> parse_tilts(const std::string& text) {
-  std::vector<double> tilts;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const auto v = parse_finite_double(item);
-    if (!v) throw UsageError("--tilts: expected comma-separated degrees, got '" + item + "'");
-    tilts.push_back(deg_to_rad(*v));
-  }
-  if (tilts.empty()) throw UsageError("--tilts: give at least one tilt");
-  return tilts;
-}
-
 void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
-  o.tilts_rad = parse_tilts(a.tilts);
+  o.tilts_rad = parse_degree_list(a.tilts, "--tilts");
   std::vector<Effect> effects;
   for (const std::string& text : a.effects) effects.push_back(parse_effect(text));
   apply_effects(effects, &o.twin);

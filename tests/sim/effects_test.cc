@@ -13,6 +13,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "tests/support/eq8_reference.h"
 #include "models/nozzle_geometry.h"
 
 namespace airtwin {
@@ -169,7 +170,7 @@ SceneSpec one_tracer(const Eigen::Vector2d& p_W) {
 }
 
 // The fixture turns MuJoCo warnings into failures (STYLE.md).
-class EffectPhysics : public testing::Test {
+class EffectPhysics : public ::testing::Test {
  protected:
   // A tracer at p_W in a steady jet for `duration_s`: its positions every `sample_s`.
   std::vector<ObjectMotion> run(const TwinParameters& p, const Eigen::Vector2d& p_W,
@@ -191,41 +192,13 @@ double angle_between(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));  // from a to b, CCW +
 }
 
-// eq. (8) with the air speed times `scale`, on the ray from s, by RK4 with the stop of eq. (9):
-// r at every sample.
-std::vector<double> eq8_radius(const OrientedField& field, double scale, const Eigen::Vector2d& p0,
-                               double duration, double sample_dt) {
-  const ObjectDynamics xi = kTracerDynamics;
-  const Eigen::Vector2d s = field.stagnation_point();
-  const Eigen::Vector2d dir = (p0 - s).normalized();
-  auto air = [&](double r) { return scale * field.speed(s + r * dir); };
-  const double h = 1e-4;
-  double r = (p0 - s).norm(), v = 0.0;
-  bool moving = xi.drive(air(r)) > 0;
-  std::vector<double> out{r};
-  const int per = static_cast<int>(std::lround(sample_dt / h));
-  for (int i = 0; i < static_cast<int>(std::lround(duration / sample_dt)); ++i) {
-    for (int k = 0; k < per && moving; ++k) {
-      auto a = [&](double rr, double vv) { return xi.acceleration(vv, air(rr)); };
-      const double k1r = v, k1v = a(r, v);
-      const double k2r = v + 0.5 * h * k1v, k2v = a(r + 0.5 * h * k1r, v + 0.5 * h * k1v);
-      const double k3r = v + 0.5 * h * k2v, k3v = a(r + 0.5 * h * k2r, v + 0.5 * h * k2v);
-      const double k4r = v + h * k3v, k4v = a(r + h * k3r, v + h * k3v);
-      r += h / 6 * (k1r + 2 * k2r + 2 * k3r + k4r);
-      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-      if (v <= 0 && xi.drive(air(r)) <= 0) moving = false;
-    }
-    out.push_back(r);
-  }
-  return out;
-}
-
 TEST_F(EffectPhysics, FieldScaleDrivesFartherAsEquationEightWithTheScaledSpeed) {
   const Eigen::Vector2d start(0.35, 0.1);
   const std::vector<ObjectMotion> nominal = run(quiet(), start, 1.5);
   const std::vector<ObjectMotion> scaled = run(with(quiet(), "field_scale:factor=1.3"), start, 1.5);
   const OrientedField field = field_model().at({0.0, 0.0});
-  const std::vector<double> truth = eq8_radius(field, 1.3, scaled.front().p_W, 1.5, 0.025);
+  const std::vector<double> truth = testing::eq8_ray_reference(
+      field, quiet().scene.tracer.dynamics(), scaled.front().p_W, 1.5, 0.025, 1.3);
   const Eigen::Vector2d s = field.stagnation_point();
   double worst = 0.0;
   for (size_t i = 0; i < truth.size(); ++i) {

@@ -13,6 +13,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "tests/support/eq8_reference.h"
 
 namespace airtwin {
 namespace {
@@ -30,7 +31,7 @@ const AirFieldModel& field_model() {
 }
 
 // The fixture turns MuJoCo warnings into failures (STYLE.md).
-class TwinTest : public testing::Test {
+class TwinTest : public ::testing::Test {
  protected:
   void expect_no_warnings(const Twin& twin) {
     EXPECT_EQ(twin.warning_count(), 0) << twin.last_warning();
@@ -66,36 +67,6 @@ TEST_F(TwinTest, ObjectsWithoutAirStayPut) {
   expect_no_warnings(twin);
 }
 
-// Independent truth: eq. (8) on the ray from s, dr/dt = v, dv/dt = xi1 v + xi2 u(r) + xi3, by
-// RK4 at 0.1 ms with the stop of eq. (9) (v reaches 0 where the drive is <= 0). Returns r at
-// every multiple of `sample_dt`.
-std::vector<double> eq8_reference(const OrientedField& field, const ObjectDynamics& xi,
-                                  const Eigen::Vector2d& p0, double duration, double sample_dt) {
-  const Eigen::Vector2d s = field.stagnation_point();
-  const Eigen::Vector2d u = (p0 - s).normalized();
-  auto air = [&](double r) { return field.speed(s + r * u); };
-  auto accel = [&](double r, double v) { return xi.acceleration(v, air(r)); };
-  const double h = 1e-4;
-  const int per_sample = static_cast<int>(std::lround(sample_dt / h));
-  double r = (p0 - s).norm(), v = 0.0;
-  bool moving = xi.drive(air(r)) > 0;
-  std::vector<double> samples{r};
-  const int n = static_cast<int>(std::lround(duration / sample_dt));
-  for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < per_sample && moving; ++k) {
-      const double k1r = v, k1v = accel(r, v);
-      const double k2r = v + 0.5 * h * k1v, k2v = accel(r + 0.5 * h * k1r, v + 0.5 * h * k1v);
-      const double k3r = v + 0.5 * h * k2v, k3v = accel(r + 0.5 * h * k2r, v + 0.5 * h * k2v);
-      const double k4r = v + h * k3v, k4v = accel(r + h * k3r, v + h * k3v);
-      r += h / 6 * (k1r + 2 * k2r + 2 * k3r + k4r);
-      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-      if (v <= 0 && xi.drive(air(r)) <= 0) moving = false;
-    }
-    samples.push_back(r);
-  }
-  return samples;
-}
-
 TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
   // Turbulence and pressure push off, static = kinetic: the twin's drag and contact friction
   // are exactly eq. (8) but for MuJoCo's soft contacts (friction slightly under mu N while the
@@ -115,7 +86,7 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
       twin.settle_jet();
       const Eigen::Vector2d p0 = twin.object_state(0).p_W;
       const std::vector<double> truth =
-          eq8_reference(field, p.scene.tracer.dynamics(), p0, 2.0, 0.025);
+          testing::eq8_ray_reference(field, p.scene.tracer.dynamics(), p0, 2.0, 0.025);
       double worst = 0.0, off_ray = 0.0;
       for (size_t i = 1; i < truth.size(); ++i) {
         twin.advance_to(0.025 * static_cast<double>(i));

@@ -1,0 +1,35 @@
+#include "tests/support/eq8_reference.h"
+
+#include <cmath>
+
+namespace airtwin::testing {
+
+std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDynamics& xi,
+                                      const Eigen::Vector2d& p0_W, double duration_s,
+                                      double sample_dt_s, double air_scale) {
+  const Eigen::Vector2d s = field.stagnation_point();
+  const Eigen::Vector2d u = (p0_W - s).normalized();
+  auto air = [&](double r) { return air_scale * field.speed(s + r * u); };
+  auto accel = [&](double r, double v) { return xi.acceleration(v, air(r)); };
+  const double h = 1e-4;
+  const int per_sample = static_cast<int>(std::lround(sample_dt_s / h));
+  double r = (p0_W - s).norm(), v = 0.0;
+  bool moving = xi.drive(air(r)) > 0;
+  std::vector<double> samples{r};
+  const int n = static_cast<int>(std::lround(duration_s / sample_dt_s));
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < per_sample && moving; ++k) {
+      const double k1r = v, k1v = accel(r, v);
+      const double k2r = v + 0.5 * h * k1v, k2v = accel(r + 0.5 * h * k1r, v + 0.5 * h * k1v);
+      const double k3r = v + 0.5 * h * k2v, k3v = accel(r + 0.5 * h * k2r, v + 0.5 * h * k2v);
+      const double k4r = v + h * k3v, k4v = accel(r + h * k3r, v + h * k3v);
+      r += h / 6 * (k1r + 2 * k2r + 2 * k3r + k4r);
+      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      if (v <= 0 && xi.drive(air(r)) <= 0) moving = false;
+    }
+    samples.push_back(r);
+  }
+  return samples;
+}
+
+}  // namespace airtwin::testing

@@ -1,0 +1,20 @@
+#pragma once
+// An independent integration of eqs. (8)-(9) along one ray from s, for tests that compare a
+// simulation with the model: dr/dt = v, dv/dt = xi1 v + xi2 scale u(r) + xi3 by RK4 at 0.1 ms,
+// starting at rest, with the stop of eq. (9) (v reaches 0 where the drive is <= 0).
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "models/air_field.h"
+#include "models/object_dynamics.h"
+
+namespace airtwin::testing {
+
+/// The distance r (m) from s at t = 0, sample_dt, ..., duration for an object starting at rest at
+/// p0_W; the air speed is scaled by `air_scale`.
+std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDynamics& xi,
+                                      const Eigen::Vector2d& p0_W, double duration_s,
+                                      double sample_dt_s, double air_scale = 1.0);
+
+}  // namespace airtwin::testing
