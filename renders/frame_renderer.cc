@@ -1,0 +1,155 @@
+#include "renders/frame_renderer.h"
+
+#include <algorithm>
+
+#include <opencv2/imgproc.hpp>
+
+#include "common/errors.h"
+#include "renders/offscreen_context.h"
+#include "renders/sensor_effects.h"
+#include "sim/mujoco_runtime.h"
+
+namespace airtwin {
+namespace {
+
+// Room in the scene for the model's geoms plus MuJoCo's decorations (none are enabled).
+constexpr int kExtraSceneGeoms = 100;
+
+template <typename T>
+void copy_array(T* to, const T* from, int count) {
+  if (count > 0) std::copy_n(from, count, to);
+}
+
+// Copies from `src` into `dst` everything mjv_updateScene reads for the categories drawn here:
+// the poses of bodies (also the skins' bones), geoms, sites, cameras and lights, the tree's
+// centres of mass (camera and light targets) and the tendon paths. Nothing else of `dst` is read.
+void mirror_kinematics(const mjModel* m, const mjData* src, mjData* dst) {
+  dst->time = src->time;
+  copy_array(dst->qpos, src->qpos, m->nq);
+  copy_array(dst->mocap_pos, src->mocap_pos, 3 * m->nmocap);
+  copy_array(dst->mocap_quat, src->mocap_quat, 4 * m->nmocap);
+  copy_array(dst->xpos, src->xpos, 3 * m->nbody);
+  copy_array(dst->xquat, src->xquat, 4 * m->nbody);
+  copy_array(dst->xmat, src->xmat, 9 * m->nbody);
+  copy_array(dst->xipos, src->xipos, 3 * m->nbody);
+  copy_array(dst->ximat, src->ximat, 9 * m->nbody);
+  copy_array(dst->subtree_com, src->subtree_com, 3 * m->nbody);
+  copy_array(dst->xanchor, src->xanchor, 3 * m->njnt);
+  copy_array(dst->xaxis, src->xaxis, 3 * m->njnt);
+  copy_array(dst->geom_xpos, src->geom_xpos, 3 * m->ngeom);
+  copy_array(dst->geom_xmat, src->geom_xmat, 9 * m->ngeom);
+  copy_array(dst->site_xpos, src->site_xpos, 3 * m->nsite);
+  copy_array(dst->site_xmat, src->site_xmat, 9 * m->nsite);
+  copy_array(dst->cam_xpos, src->cam_xpos, 3 * m->ncam);
+  copy_array(dst->cam_xmat, src->cam_xmat, 9 * m->ncam);
+  copy_array(dst->light_xpos, src->light_xpos, 3 * m->nlight);
+  copy_array(dst->light_xdir, src->light_xdir, 3 * m->nlight);
+  copy_array(dst->ten_wrapadr, src->ten_wrapadr, m->ntendon);
+  copy_array(dst->ten_wrapnum, src->ten_wrapnum, m->ntendon);
+  copy_array(dst->ten_length, src->ten_length, m->ntendon);
+  copy_array(dst->wrap_obj, src->wrap_obj, 2 * m->nwrap);
+  copy_array(dst->wrap_xpos, src->wrap_xpos, 6 * m->nwrap);
+}
+
+}  // namespace
+
+struct FrameRenderer::Impl {
+  const mjModel* m = nullptr;
+  RenderOptions options;
+  std::unique_ptr<OffscreenContext> context;
+  DataPtr mirror;  // the renderer's copy of the state's kinematics
+  mjvScene scene;
+  mjvOption option;
+  mjvCamera camera;
+  mjvPerturb perturb;
+  bool scene_made = false;
+  cv::Mat rgb_bottom_up;  // MuJoCo's read-back: RGB, first row = bottom of the picture
+  cv::Mat rgb;            // the same, rows top-down
+
+  ~Impl() {
+    // The scene is plain memory; no GL context is needed to free it.
+    if (scene_made) mjv_freeScene(&scene);
+  }
+};
+
+FrameRenderer::FrameRenderer(const mjModel* m, const RenderOptions& options,
+                             const std::string& camera)
+    : impl_(std::make_unique<Impl>()) {
+  AIRTWIN_DEMAND(m != nullptr);
+  install_mujoco_handlers();
+  Impl& s = *impl_;
+  s.m = m;
+  s.options = options;
+  // Options and camera: user input, checked before any GL work.
+  validate_sensor_effects(options.noise_sigma_grey, options.blur_sigma_px);
+  const int camera_id = mj_name2id(m, mjOBJ_CAMERA, camera.c_str());
+  if (camera_id < 0) throw InputError("model: no camera named '" + camera + "' to render");
+
+  s.context = std::make_unique<OffscreenContext>(m, options.multisamples);
+  s.mirror = make_data(m);
+
+  // The abstract scene: this renderer's own, sized for every geom of the model.
+  mjv_defaultScene(&s.scene);
+  mjv_makeScene(m, &s.scene, m->ngeom + kExtraSceneGeoms);
+  s.scene_made = true;
+  // The look: no shadows, reflections, skybox, fog or haze (the top view sees only the floor).
+  for (int f : {mjRND_SHADOW, mjRND_REFLECTION, mjRND_SKYBOX, mjRND_FOG, mjRND_HAZE,
+                mjRND_WIREFRAME, mjRND_SEGMENT, mjRND_IDCOLOR}) {
+    s.scene.flags[f] = 0;
+  }
+  // What is drawn: geom groups 0-2 (floor, visual meshes, rig), skins (cotton), textures; no
+  // sites, no decorations (joints, contacts, centres of mass, lights, cameras, ...).
+  mjv_defaultOption(&s.option);
+  for (int g = 0; g < mjNGROUP; ++g) {
+    s.option.geomgroup[g] = g <= 2;
+    s.option.skingroup[g] = 1;
+    s.option.sitegroup[g] = 0;
+  }
+  for (int f = 0; f < mjNVISFLAG; ++f) s.option.flags[f] = 0;
+  s.option.flags[mjVIS_TEXTURE] = 1;
+  s.option.flags[mjVIS_SKIN] = 1;
+  s.option.flags[mjVIS_STATIC] = 1;
+  // The model's fixed camera; no perturbation.
+  mjv_defaultCamera(&s.camera);
+  s.camera.type = mjCAMERA_FIXED;
+  s.camera.fixedcamid = camera_id;
+  mjv_defaultPerturb(&s.perturb);
+
+  s.rgb_bottom_up.create(s.context->height_px(), s.context->width_px(), CV_8UC3);
+}
+
+FrameRenderer::~FrameRenderer() = default;
+FrameRenderer::FrameRenderer(FrameRenderer&&) noexcept = default;
+FrameRenderer& FrameRenderer::operator=(FrameRenderer&&) noexcept = default;
+
+cv::Mat FrameRenderer::render(const mjData* d, int64_t frame_index) {
+  cv::Mat bgr;
+  render_into(d, frame_index, bgr);
+  return bgr;
+}
+
+void FrameRenderer::render_into(const mjData* d, int64_t frame_index, cv::Mat& bgr) {
+  AIRTWIN_DEMAND(d != nullptr);
+  Impl& s = *impl_;
+  // The scene from the renderer's mirror of the state, so that MuJoCo writes nothing into `d`.
+  mirror_kinematics(s.m, d, s.mirror.get());
+  mjv_updateScene(s.m, s.mirror.get(), &s.option, &s.perturb, &s.camera, mjCAT_ALL, &s.scene);
+  // Draw and read back on this thread's context (OpenGL's rows run bottom-up).
+  s.context->make_current();
+  const mjrRect viewport{0, 0, s.context->width_px(), s.context->height_px()};
+  mjr_render(viewport, &s.scene, s.context->mjr());
+  mjr_readPixels(s.rgb_bottom_up.data, nullptr, viewport, s.context->mjr());
+  // To a camera's image: rows top-down, BGR.
+  cv::flip(s.rgb_bottom_up, s.rgb, 0);
+  cv::cvtColor(s.rgb, bgr, cv::COLOR_RGB2BGR);
+  // Optics and sensor.
+  apply_sensor_effects(bgr, s.options.noise_sigma_grey, s.options.blur_sigma_px, s.options.seed,
+                       frame_index);
+}
+
+int FrameRenderer::width_px() const { return impl_->context->width_px(); }
+int FrameRenderer::height_px() const { return impl_->context->height_px(); }
+const RenderOptions& FrameRenderer::options() const { return impl_->options; }
+const std::string& FrameRenderer::gl_renderer() const { return impl_->context->gl_renderer(); }
+
+}  // namespace airtwin
