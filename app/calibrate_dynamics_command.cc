@@ -128,6 +128,7 @@ void add_calibrate_dynamics_command(CLI::App& app) {
   sub->add_option("--iterations", o.iterations, "Rounds")->capture_default_str();
   sub->add_option("--seed", o.collection.seed, "Seed of every round's collection")
       ->capture_default_str();
+  o.collection.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.collection.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();
   sub->add_option("--skip-transient", o.identification.pairs.transient_s,

@@ -76,6 +76,7 @@ void add_collect_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--record", o.record_s, "Seconds recorded after the re-aim")
       ->capture_default_str();
+  o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();
   sub->add_option("--table", args->table,
