@@ -96,58 +96,36 @@ void report_per_object(benchmark::State& state, double max_error) {
   state.counters["max_err_mm"] = max_error * 1e3;
 }
 
-void BM_FastPredictor(benchmark::State& state) {
+// Times `p` over all candidates and reports per-object time and the end error.
+void time_predictor(benchmark::State& state, const TrajectoryPredictor& p,
+                    const PredictionOptions& options = {}) {
   work();
-  const FastPredictor fast;
   Prediction out;
   double max_error = 0.0;
   for (auto _ : state) {
-    max_error = run_all(fast, {}, out);
+    max_error = run_all(p, options, out);
     benchmark::DoNotOptimize(out.end.data());
-  }
-  report_per_object(state, max_error);
-}
-BENCHMARK(BM_FastPredictor)->Unit(benchmark::kMillisecond);
-
-void BM_FastPredictorSampled(benchmark::State& state) {
-  work();
-  const FastPredictor fast;
-  Prediction out;
-  PredictionOptions options;
-  options.sample_rate_hz = 40.0;
-  double max_error = 0.0;
-  for (auto _ : state) {
-    max_error = run_all(fast, options, out);
     benchmark::DoNotOptimize(out.samples.data());
   }
   report_per_object(state, max_error);
 }
+
+void BM_FastPredictor(benchmark::State& state) { time_predictor(state, FastPredictor()); }
+BENCHMARK(BM_FastPredictor)->Unit(benchmark::kMillisecond);
+
+void BM_FastPredictorSampled(benchmark::State& state) {
+  PredictionOptions options;
+  options.sample_rate_hz = 40.0;
+  time_predictor(state, FastPredictor(), options);
+}
 BENCHMARK(BM_FastPredictorSampled)->Unit(benchmark::kMillisecond);
 
 void BM_CvodeEqualAccuracy(benchmark::State& state) {
-  work();
-  const CvodePredictor cvode(equal_accuracy_cvode());
-  Prediction out;
-  double max_error = 0.0;
-  for (auto _ : state) {
-    max_error = run_all(cvode, {}, out);
-    benchmark::DoNotOptimize(out.end.data());
-  }
-  report_per_object(state, max_error);
+  time_predictor(state, CvodePredictor(equal_accuracy_cvode()));
 }
 BENCHMARK(BM_CvodeEqualAccuracy)->Unit(benchmark::kMillisecond);
 
-void BM_CvodeReference(benchmark::State& state) {
-  work();
-  const CvodePredictor cvode;
-  Prediction out;
-  double max_error = 0.0;
-  for (auto _ : state) {
-    max_error = run_all(cvode, {}, out);
-    benchmark::DoNotOptimize(out.end.data());
-  }
-  report_per_object(state, max_error);
-}
+void BM_CvodeReference(benchmark::State& state) { time_predictor(state, CvodePredictor()); }
 BENCHMARK(BM_CvodeReference)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // Both paths on the same work, timed inside one benchmark so the ratio comes from one run.

@@ -9,8 +9,6 @@
 
 namespace airtwin {
 
-ObjectDynamics physics_of(const ObjectTypeParameters& p, double g) { return p.dynamics(g); }
-
 void set_physics(const ObjectDynamics& x, ObjectTypeParameters* p, double g) {
   const ObjectTypeParameters q = ObjectTypeParameters::from_dynamics(x, p->diameter_m, p->mass_kg, g);
   p->drag_rate_per_s = q.drag_rate_per_s;
@@ -26,7 +24,7 @@ DynamicsCalibration calibrate_dynamics(
   CollectionOptions collection = o.collection;
   ObjectTypeParameters& type =
       collection.object == "tracer" ? collection.twin.scene.tracer : collection.twin.scene.cotton;
-  ObjectDynamics x = physics_of(type);
+  ObjectDynamics x = type.dynamics();
 
   DynamicsCalibration result;
   double best = INFINITY;

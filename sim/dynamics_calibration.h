@@ -49,9 +49,8 @@ struct DynamicsCalibration {
   std::string stopped;
 };
 
-/// The physics triple of an object type's parameters (the inverse of from_dynamics).
-ObjectDynamics physics_of(const ObjectTypeParameters& p, double gravity_mps2 = 9.81);
-/// Sets the drag rate, air gain and kinetic friction of `p` from a physics triple.
+/// Sets the drag rate, air gain and kinetic friction of `p` from a physics triple (the inverse of
+/// ObjectTypeParameters::dynamics()).
 void set_physics(const ObjectDynamics& physics, ObjectTypeParameters* p,
                  double gravity_mps2 = 9.81);
 
