@@ -65,7 +65,6 @@ void run_identify(IdentifyArgs a) {
   o.pairs.repair_glitches = !a.no_glitch_repair;
   require_range(o.sindy.lambda, 0, 10, "--lambda", "a threshold in [0, 10]");
   require_range(o.sindy.bootstraps, 1, 10000, "--bootstraps", "a count in [1, 10000]");
-  require_range(o.sindy.ridge, 0, 1e6, "--ridge", "a penalty in [0, 1e6]");
   require_range(o.pairs.smoothing_half_window, 0, 50, "--smooth",
                 "a half window in [0, 50] samples");
   require_range(o.pairs.stationary_speed_mps, 0, 1, "--stationary-speed", "a speed in [0, 1] m/s");
@@ -135,9 +134,6 @@ void add_identify_command(CLI::App& app) {
   IdentificationOptions& o = args->options;
   sub->add_option("--lambda", o.sindy.lambda,
                   "Threshold on the discrete-time coefficients (sequential thresholding)")
-      ->capture_default_str();
-  sub->add_option("--ridge", o.sindy.ridge,
-                  "Ridge penalty of the term-selection fits (refitted without it); 0: none")
       ->capture_default_str();
   sub->add_option("--bootstraps", o.sindy.bootstraps, "E-SINDy bootstrap count")
       ->capture_default_str();

@@ -25,35 +25,20 @@ Eigen::MatrixXd library(const Eigen::VectorXd& v, const Eigen::VectorXd& va) {
   return X;
 }
 
-// min sum_i w_i (y_i - x_i b)^2 + alpha |b|^2 by a pivoted QR of the augmented system
-// [sqrt(W) X; sqrt(alpha) I] b = [sqrt(W) y; 0]; w empty means all ones.
-Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
-                            const Eigen::VectorXd& w, double alpha) {
-  const Eigen::Index n = X.rows(), p = X.cols();
-  if (alpha <= 0 && w.size() == 0) return X.colPivHouseholderQr().solve(y);
-  Eigen::MatrixXd A(n + (alpha > 0 ? p : 0), p);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
-  if (w.size() == 0) {
-    A.topRows(n) = X;
-    rhs.head(n) = y;
-  } else {
-    const Eigen::VectorXd sw = w.cwiseSqrt();
-    A.topRows(n) = sw.asDiagonal() * X;
-    rhs.head(n) = sw.cwiseProduct(y);
-  }
-  if (alpha > 0) A.bottomRows(p) = std::sqrt(alpha) * Eigen::MatrixXd::Identity(p, p);
-  return A.colPivHouseholderQr().solve(rhs);
+// min sum_i w_i (y_i - x_i b)^2 by a pivoted QR of sqrt(W) X b = sqrt(W) y.
+Eigen::VectorXd weighted_solve(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                               const Eigen::VectorXd& w) {
+  const Eigen::VectorXd sw = w.cwiseSqrt();
+  return (sw.asDiagonal() * X).colPivHouseholderQr().solve(sw.cwiseProduct(y));
 }
 
-// Least squares on the columns in `active` (others zero), ridge-regularised by alpha (0: plain),
-// by bisquare IRLS when robust. Column-pivoting QR keeps nearly collinear monomials in check.
+// Least squares on the columns in `active` (others zero), by bisquare IRLS when robust.
+// Column-pivoting QR keeps nearly collinear monomials in check.
 Coefficients least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
-                           const std::vector<int>& active, bool robust, double alpha,
-                           Eigen::VectorXd* w) {
+                           const std::vector<int>& active, bool robust, Eigen::VectorXd* w) {
   Eigen::MatrixXd Xa(X.rows(), active.size());
   for (size_t j = 0; j < active.size(); ++j) Xa.col(j) = X.col(active[j]);
-  const Eigen::VectorXd b =
-      robust ? bisquare_fit(Xa, y, w, alpha) : ridge_solve(Xa, y, Eigen::VectorXd(), alpha);
+  const Eigen::VectorXd b = robust ? bisquare_fit(Xa, y, w) : Xa.colPivHouseholderQr().solve(y);
   if (!robust && w) w->setOnes(X.rows());
   Coefficients xi = Coefficients::Zero();
   for (size_t j = 0; j < active.size(); ++j) xi[active[j]] = b[j];
@@ -67,14 +52,12 @@ Coefficients least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
 // term (0.1065 for the tracer at 40 Hz) over vair^2, vair^3, v*vair, ... and all of them can fall
 // under lambda together. Dropping the weakest first lets the others take its share back
 // (Boninsegna, Nueske & Clementi 2018, "stepwise sparse regression").
-// Optionally the selection fits are ridge-regularised (alpha |xi|^2, as PySINDy's STLSQ) and the
-// returned coefficients refitted on the final support without the ridge (PySINDy's "unbias").
 // The fixed point meets STLSQ's condition: every kept |xi_d| >= lambda.
 Coefficients stlsq(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const SindyOptions& o,
                    bool robust, Eigen::VectorXd* w) {
   std::vector<int> active(kSindyTerms);
   for (int j = 0; j < kSindyTerms; ++j) active[j] = j;
-  Coefficients xi = least_squares(X, y, active, robust, o.ridge, w);
+  Coefficients xi = least_squares(X, y, active, robust, w);
   while (true) {
     auto weakest = active.end();
     for (auto it = active.begin(); it != active.end(); ++it) {
@@ -86,9 +69,9 @@ Coefficients stlsq(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Sin
     if (weakest == active.end()) break;
     active.erase(weakest);
     if (active.empty()) return Coefficients::Zero();
-    xi = least_squares(X, y, active, robust, o.ridge, w);
+    xi = least_squares(X, y, active, robust, w);
   }
-  return o.ridge > 0 ? least_squares(X, y, active, robust, 0.0, w) : xi;
+  return xi;
 }
 
 double median(std::vector<double> x) {
@@ -173,7 +156,7 @@ const char* sindy_method_name(SindyMethod m) {
 }
 
 Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
-                             Eigen::VectorXd* weights_out, double ridge) {
+                             Eigen::VectorXd* weights_out) {
   const Eigen::Index n = X.rows(), p = X.cols();
   constexpr double kTune = 4.685;
   // Leverages of the unweighted design: squared row norms of the thin Q.
@@ -189,7 +172,7 @@ Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   const Eigen::VectorXd col_scale = X.colwise().norm().cwiseMax(1e-300).cwiseInverse();
   const Eigen::MatrixXd Xs = X * col_scale.asDiagonal();
   Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
-  Eigen::VectorXd b = ridge_solve(X, y, Eigen::VectorXd(), ridge);
+  Eigen::VectorXd b = X.colPivHouseholderQr().solve(y);
   bool reweighted = false;
   for (int it = 0; it < 50; ++it) {
     const Eigen::VectorXd r_adj = (y - X * b).cwiseProduct(adjust);
@@ -205,19 +188,17 @@ Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
       w[i] = std::abs(u) < 1.0 ? (1 - u * u) * (1 - u * u) : 0.0;
     }
     reweighted = true;
-    Eigen::MatrixXd gram = Xs.transpose() * w.asDiagonal() * Xs;
-    // alpha |b|^2 = alpha |D c|^2 in the equilibrated coordinates c (b = D c).
-    if (ridge > 0) gram.diagonal() += ridge * col_scale.cwiseAbs2();
+    const Eigen::MatrixXd gram = Xs.transpose() * w.asDiagonal() * Xs;
     const Eigen::VectorXd rhs = Xs.transpose() * w.cwiseProduct(y);
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
     Eigen::VectorXd b_new = col_scale.cwiseProduct(ldlt.solve(rhs));
-    if (ldlt.info() != Eigen::Success || !b_new.allFinite()) b_new = ridge_solve(X, y, w, ridge);
+    if (ldlt.info() != Eigen::Success || !b_new.allFinite()) b_new = weighted_solve(X, y, w);
     const double change = (b_new - b).cwiseAbs().maxCoeff();
     const double scale = std::max(b_new.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
     b = b_new;
     if (change <= 1.5e-8 * scale) break;  // sqrt(eps), as robustfit
   }
-  if (reweighted) b = ridge_solve(X, y, w, ridge);
+  if (reweighted) b = weighted_solve(X, y, w);
   if (weights_out) *weights_out = w;
   return b;
 }
@@ -291,7 +272,7 @@ SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
       std::vector<int> active;
       for (int j = 0; j < kSindyTerms; ++j)
         if (res.discrete[j] != 0.0) active.push_back(j);
-      if (!active.empty()) least_squares(X, d.v_next, active, true, 0.0, &res.weights);
+      if (!active.empty()) least_squares(X, d.v_next, active, true, &res.weights);
     }
   }
 

@@ -48,10 +48,6 @@ const char* sindy_method_name(SindyMethod m);
 struct SindyOptions {
   SindyMethod method = SindyMethod::kRobustEsindy;
   double lambda = 0.07;  ///< threshold on discrete-time coefficients
-  /// Ridge penalty alpha |xi_d|^2 of the selection fits (PySINDy's STLSQ offers 0.05); the final
-  /// coefficients are refitted on the selected terms without it. 0 (default): plain least
-  /// squares. On twin cotton data 0.05 consistently selected a wrong model (v, v*vair, ...).
-  double ridge = 0.0;
   int bootstraps = 15;
   std::uint64_t seed = 1;
 };
@@ -76,9 +72,8 @@ SindyResult identify_sindy(const SpeedPairs& data, const SindyOptions& options);
 /// Bisquare IRLS (MATLAB robustfit: tuning 4.685, residuals adjusted by leverage sqrt(1 - h),
 /// scale MAD / 0.6745 of the adjusted residuals ignoring the p smallest). Returns coefficients;
 /// `weights_out` (optional) receives the final weights.
-/// `ridge` > 0 adds ridge * |b|^2 to every weighted solve.
 Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
-                             Eigen::VectorXd* weights_out = nullptr, double ridge = 0.0);
+                             Eigen::VectorXd* weights_out = nullptr);
 
 /// One step of the continuous model from v0 over dt with va linear from va0 to va1 (RK4).
 double sindy_flow_step(const Eigen::Matrix<double, kSindyTerms, 1>& xi, double v0, double va0,

@@ -32,6 +32,12 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   for (const Trajectory& tr : set.trajectories) EXPECT_EQ(tr.samples.size(), 81u);
   ASSERT_EQ(run_airtwin(quick + "--threads 2 --out " + d + "/b.csv").exit_code, 0);
   EXPECT_EQ(read_text_file(d + "/a/data.csv"), read_text_file(d + "/b.csv"));
+  // Without --quiet, progress goes to stderr as plain lines when it is not a terminal.
+  const auto loud = run_airtwin("collect --per-tilt 2 --wait 0.5 --seed 4 --out " + d + "/l.csv");
+  ASSERT_EQ(loud.exit_code, 0) << loud.err;
+  EXPECT_NE(loud.err.find("collect 4/4 trials"), std::string::npos) << loud.err;
+  EXPECT_EQ(loud.err.find('\r'), std::string::npos) << loud.err;
+  EXPECT_EQ(read_text_file(d + "/a/data.csv"), read_text_file(d + "/l.csv"));
   // An effect changes what the twin does, and the run says which.
   const auto e = run_airtwin(quick + "--effect field_scale:factor=1.5 --out " + d + "/c.csv");
   ASSERT_EQ(e.exit_code, 0) << e.err;

@@ -206,6 +206,56 @@ TEST(SpeedPairs, SeriesRunsAreSplitAtRest) {
   EXPECT_NEAR(d.dt_s, 0.025, 1e-15);
 }
 
+TEST(SpeedPairs, MotionOffTheRadialDirectionIsNotUsed) {
+  // An object circling s at 0.3 m/s, always at right angles to eq. (9)'s radial direction: every
+  // moving sample is excluded and counted, no pair is made. With the check off, all are used.
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  const NozzleOrientation o{0.0, 0.0};
+  const Eigen::Vector2d s = model.at(o).stagnation_point();
+  TrajectorySet set;
+  Trajectory tr;
+  tr.id = "arc";
+  tr.object = "tracer";
+  for (int k = 0; k < 40; ++k) {
+    const double a = 0.3 * 0.025 * k / 0.4;  // 0.3 m/s on a 0.4 m circle
+    tr.samples.push_back({0.025 * k, s + 0.4 * Eigen::Vector2d(std::cos(a), std::sin(a)), o});
+  }
+  set.trajectories.push_back(tr);
+  SpeedPairOptions options;
+  options.smoothing_half_window = 0;
+  SpeedPairReport rep;
+  EXPECT_EQ(speed_pairs_from_trajectories(set, model, options, &rep).size(), 0u);
+  EXPECT_EQ(rep.n_off_radial, 38u);  // every interior frame
+  EXPECT_EQ(rep.n_dropped, 0u);
+  options.max_direction_error_rad = kPi;
+  EXPECT_EQ(speed_pairs_from_trajectories(set, model, options, &rep).size(), 37u);
+  EXPECT_EQ(rep.n_off_radial, 0u);
+}
+
+TEST(SpeedPairs, TheTransientAfterACommandChangeIsNotUsed) {
+  // Frames within transient_s of the first frame and of a command change are excluded: 0.25 s at
+  // 40 Hz is frames 1..9 after the start (interior frames) and 10 frames after the change.
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 1, 41, "tracer");
+  Trajectory& tr = set.trajectories[0];
+  // Moving away from s at a steady 0.4 m/s, radially, so every sample moves and is radial.
+  const Eigen::Vector2d s = model.at(tr.samples[0].nozzle).stagnation_point();
+  const Eigen::Vector2d dir = (tr.samples[0].p_W - s).normalized();
+  for (size_t k = 0; k < tr.samples.size(); ++k) {
+    tr.samples[k].p_W = s + (0.3 + 0.4 * 0.025 * k) * dir;
+    if (k >= 40) tr.samples[k].nozzle.pan_rad += 1e-3;  // a command change at frame 40
+  }
+  SpeedPairOptions options;
+  options.transient_s = 0.25;
+  options.max_direction_error_rad = kPi;  // the second command's s lies elsewhere
+  SpeedPairReport rep;
+  speed_pairs_from_trajectories(set, model, options, &rep);
+  EXPECT_EQ(rep.n_transient, 9u + 10u);
+  options.transient_s = 0.0;
+  speed_pairs_from_trajectories(set, model, options, &rep);
+  EXPECT_EQ(rep.n_transient, 0u);
+}
+
 TEST(SpeedPairs, MixedFrameRatesAreRejected) {
   const AirFieldModel model = AirFieldModel::with_default_table();
   TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 3, 4, "tracer");
