@@ -13,5 +13,7 @@ void add_maketable_command(CLI::App& app);  // construct the default table from 
 void add_identify_command(CLI::App& app);   // section IV: SINDy on trajectories -> model.json
 void add_collect_command(CLI::App& app);    // Appendix D protocol in the twin -> trajectory CSV
 void add_calibrate_dynamics_command(CLI::App& app);  // tune twin drag/friction to eq. (8)
+void add_run_command(CLI::App& app);  // section V: a scenario in closed loop in the twin
+void add_render_command(CLI::App& app);  // synthetic camera dataset of a scenario: frames, truth
 
 }  // namespace airtwin::cli

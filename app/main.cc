@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   airtwin::cli::add_identify_command(app);
   airtwin::cli::add_collect_command(app);
   airtwin::cli::add_calibrate_dynamics_command(app);
+  airtwin::cli::add_run_command(app);
+  airtwin::cli::add_render_command(app);
 
   try {
     app.parse(argc, argv);

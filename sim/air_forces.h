@@ -57,7 +57,7 @@
 #include <mujoco/mujoco.h>
 
 #include "models/air_field.h"
-#include "sim/random_stream.h"
+#include "common/random_stream.h"
 #include "sim/scene_builder.h"
 #include "sim/scene_spec.h"
 

@@ -10,7 +10,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
-#include "sim/random_stream.h"
+#include "common/random_stream.h"
 
 namespace airtwin {
 

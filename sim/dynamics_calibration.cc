@@ -5,7 +5,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
-#include "sim/random_stream.h"
+#include "common/random_stream.h"
 
 namespace airtwin {
 

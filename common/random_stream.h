@@ -1,7 +1,7 @@
 #pragma once
-// Seeded random numbers for the twin, reproducible bit for bit on any platform: std::mt19937_64's
-// output sequence is fixed by the standard, and the uniform and normal transforms are written here
-// (the standard library's distributions are implementation-defined).
+// Seeded random numbers for the twin and the controller, reproducible bit for bit on any platform:
+// std::mt19937_64's output sequence is fixed by the standard, and the uniform and normal
+// transforms are written here (the standard library's distributions are implementation-defined).
 //
 // A twin derives one independent stream per purpose and object from its seed, so adding an object
 // or a new effect does not shift the numbers every other object sees.
@@ -13,7 +13,14 @@
 namespace airtwin {
 
 /// Streams a twin draws from (the `purpose` of RandomStream).
-enum class RandomPurpose : uint64_t { kShape = 1, kHeading = 2, kTurbulence = 3, kCollection = 4 };
+enum class RandomPurpose : uint64_t {
+  kShape = 1,
+  kHeading = 2,
+  kTurbulence = 3,
+  kCollection = 4,
+  kController = 5,  // the CEM planner's samples
+  kScenario = 6,    // randomised scenario layouts
+};
 
 class RandomStream {
  public:

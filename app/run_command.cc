@@ -1,0 +1,106 @@
+// airtwin run: one closed-loop run of a scenario in the twin (rigs/scenario_run.h). Writes
+// DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included) and
+// DIR/decisions.csv.
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/progress.h"
+#include "common/errors.h"
+#include "models/identified_model.h"
+#include "rigs/scenario_run.h"
+#include "scenes/scenario.h"
+#include "sim/effects.h"
+
+namespace airtwin::cli {
+namespace {
+
+struct RunArgs {
+  std::string scenario;
+  std::string out;
+  std::string table;
+  std::vector<std::string> models;
+  std::vector<std::string> effects;
+  uint64_t seed = 0;
+  bool quiet = false;
+};
+
+void run_run(const RunArgs& a) {
+  const Scenario scenario = read_scenario(a.scenario);
+  const AirFieldModel field = a.table.empty()
+                                  ? AirFieldModel::with_default_table()
+                                  : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
+  ScenarioRunOptions options;
+  options.seed = a.seed;
+  std::vector<Effect> effects;
+  for (const std::string& text : a.effects) effects.push_back(parse_effect(text));
+  apply_effects(effects, &options.twin);
+  for (const std::string& path : a.models) {
+    const IdentifiedModel model = read_identified_model(path);
+    if (model.object.empty()) {
+      throw InputError(path + ": the model names no object type (identify it with --object)");
+    }
+    options.dynamics[model.object] = model.eq8();
+  }
+  std::unique_ptr<Progress> progress;
+  const int limit = static_cast<int>(scenario.task.time_limit_s);
+  if (!a.quiet) progress = std::make_unique<Progress>("run " + scenario.name, "s", std::max(1, limit));
+  options.on_progress = [&](double t, double) {
+    if (progress) progress->update(std::min(limit, static_cast<int>(t)));
+  };
+
+  std::filesystem::create_directories(a.out);
+  const ScenarioRunResult result = run_scenario(scenario, field, options);
+  if (progress) progress->finish();
+  write_text_file(a.out + "/summary.json", run_summary_json(result, scenario.task.time_limit_s));
+  write_text_file(a.out + "/log.csv", trajectory_csv(result.log));
+  write_text_file(a.out + "/decisions.csv", decisions_csv(result));
+
+  std::printf("%s seed %llu: %s", scenario.name.c_str(),
+              static_cast<unsigned long long>(a.seed), result.loop.success ? "success" : "FAILED");
+  if (result.loop.completion_time_s) {
+    std::printf(" in %.1f s", *result.loop.completion_time_s);
+  } else {
+    std::printf(" (time limit %.0f s)", scenario.task.time_limit_s);
+  }
+  if (result.path_error_m.count > 0) {
+    std::printf(", path error mean %.2f cm, max %.2f cm", 100.0 * result.path_error_m.mean,
+                100.0 * result.path_error_m.max);
+  }
+  std::printf(", %d/%d objects in zone, max pairwise %.1f cm, %zu decisions (%.2f ms mean)\n",
+              result.objects_in_zone, result.n_objects, 100.0 * result.max_pairwise_distance_m,
+              result.loop.decisions.size(), result.decision_ms_mean);
+  std::printf("wrote %s/summary.json, log.csv, decisions.csv\n", a.out.c_str());
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "run",
+      "Run a scenario in closed loop in the MuJoCo twin: the CEM controller of section V (eq. 10)\n"
+      "plans on the field model and the identified dynamics, aims the twin's nozzle, waits\n"
+      "Delta T plus the settle time, observes, repeats until the task is done or time is up.\n"
+      "Writes DIR/summary.json, DIR/log.csv (trajectory CSV) and DIR/decisions.csv.\n"
+      "Scenarios: scenes/*.yaml (docs/scenario_schema.md).");
+  sub->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
+  sub->add_option("--out", args->out, "Output folder")->required();
+  sub->add_option("--seed", args->seed, "Seed of the twin and the controller")
+      ->capture_default_str();
+  sub->add_option("--table", args->table, "Field coefficient table (default: built in)");
+  sub->add_option("--model", args->models,
+                  "model.json from 'airtwin identify' (repeatable, one per object type): the\n"
+                  "dynamics the controller plans with instead of the paper's eq. (8)");
+  sub->add_option("--effect", args->effects,
+                  "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
+  sub->add_flag("--quiet", args->quiet, "No progress display");
+  sub->callback([args] { run_run(*args); });
+}
+
+}  // namespace airtwin::cli

@@ -1,0 +1,272 @@
+#include "controller/cem_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "common/errors.h"
+
+namespace airtwin {
+
+const char* cem_search_name(CemSearch search) {
+  return search == CemSearch::kLine ? "line" : "plane";
+}
+
+CemParameters CemParameters::line_defaults() { return CemParameters{}; }
+
+CemParameters CemParameters::plane_defaults() {
+  CemParameters p;
+  p.search = CemSearch::kPlane;
+  p.variance0_m2 = 31.3e-4;
+  p.samples = 100;
+  p.elite = 10;
+  p.max_iterations = 5;
+  p.converged_variance_m2 = 0.5e-4;
+  return p;
+}
+
+void CemParameters::validate(const std::string& source) const {
+  auto positive = [&](double value, const char* name) {
+    if (!(std::isfinite(value) && value > 0.0)) {
+      throw InputError(source + ": controller." + name + " must be a positive number");
+    }
+  };
+  positive(horizon_s, "horizon_s");
+  positive(penalty, "penalty");
+  positive(variance0_m2, "variance0_m2");
+  positive(converged_variance_m2, "converged_variance_m2");
+  if (!(std::isfinite(min_distance_m) && min_distance_m >= 0.0)) {
+    throw InputError(source + ": controller.min_distance_m must be a number >= 0");
+  }
+  if (!std::isfinite(mean0_m)) {
+    throw InputError(source + ": controller.mean0_m must be finite");
+  }
+  if (horizon_s > 60.0) {
+    throw InputError(source + ": controller.horizon_s must be at most 60 s");
+  }
+  if (samples < 1 || samples > 100000) {
+    throw InputError(source + ": controller.samples must be in [1, 100000]");
+  }
+  if (elite < 1 || elite > samples) {
+    throw InputError(source + ": controller.elite must be in [1, samples]");
+  }
+  if (max_iterations < 1 || max_iterations > 1000) {
+    throw InputError(source + ": controller.max_iterations must be in [1, 1000]");
+  }
+}
+
+CemPlanner::CemPlanner(const AirFieldModel& model, const CemParameters& params,
+                       const FastPredictor::Options& predictor_options)
+    : model_(model), params_(params), predictor_(predictor_options) {
+  params_.validate("controller");
+}
+
+namespace {
+
+// Per-decision scratch: the predictor's output and the start states, reused over candidates.
+struct Scratch {
+  std::vector<ObjectState> start;
+  Prediction prediction;
+};
+
+void check_problem(const PlanningProblem& pr) {
+  const size_t m = pr.positions_W.size();
+  if (m == 0) throw InputError("controller: no objects to plan for");
+  if (pr.velocities_W.size() != m || pr.dynamics.size() != m || pr.references_W.size() != m) {
+    throw InputError("controller: positions, velocities, dynamics and references differ in size");
+  }
+  for (size_t j = 0; j < m; ++j) {
+    if (!pr.positions_W[j].allFinite() || !pr.velocities_W[j].allFinite() ||
+        !pr.references_W[j].allFinite()) {
+      throw InputError("controller: object " + std::to_string(j) +
+                       " has a non-finite position, velocity or reference");
+    }
+  }
+  if (pr.anchor >= static_cast<int>(m)) {
+    throw InputError("controller: anchor object " + std::to_string(pr.anchor) + " out of range");
+  }
+}
+
+// eq. (10) for candidate s, with the predictor's scratch.
+double evaluate(const AirFieldModel& model, const FastPredictor& predictor,
+                const CemParameters& params, const PlanningProblem& pr,
+                const Eigen::Vector2d& s_W, Scratch& scratch, NozzleOrientation* orientation,
+                bool* feasible) {
+  *feasible = false;
+  const size_t m = pr.positions_W.size();
+  if (!s_W.allFinite()) return params.penalty;
+  // The penalty of eq. (10): an object starting within delta_min of s, where motion is most
+  // stochastic.
+  for (size_t j = 0; j < m; ++j) {
+    if ((pr.positions_W[j] - s_W).norm() < params.min_distance_m) return params.penalty;
+  }
+  // A stagnation point the nozzle cannot produce is no better than one too close to an object.
+  const AimResult aim = aim_at_stagnation(model.geometry(), s_W, pr.pan_hint_rad);
+  if (!aim.reachable()) return params.penalty;
+  if (orientation != nullptr) *orientation = *aim.orientation;
+  const OrientedField field = model.at(*aim.orientation);
+  // eq. (9): each object moves radially away from s; its present speed along that ray carries
+  // over (eq. 8's state), a speed toward s does not.
+  scratch.start.resize(m);
+  const Eigen::Vector2d s_eff = field.stagnation_point();
+  for (size_t j = 0; j < m; ++j) {
+    const Eigen::Vector2d d = pr.positions_W[j] - s_eff;
+    const double n = d.norm();
+    const double v_radial = n > 0.0 ? pr.velocities_W[j].dot(d / n) : 0.0;
+    scratch.start[j].p_W = pr.positions_W[j];
+    scratch.start[j].v = std::max(0.0, v_radial);
+  }
+  PredictionOptions options;
+  options.horizon_s = params.horizon_s;
+  predictor.predict(field, pr.dynamics, scratch.start, options, scratch.prediction);
+  double sum = 0.0;
+  for (size_t j = 0; j < m; ++j) {
+    sum += (scratch.prediction.end[j].p_W - pr.references_W[j]).norm();
+  }
+  *feasible = true;
+  return sum;
+}
+
+}  // namespace
+
+double CemPlanner::cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
+                        std::vector<Eigen::Vector2d>* end_W) const {
+  check_problem(problem);
+  Scratch scratch;
+  bool feasible = false;
+  const double j = evaluate(model_, predictor_, params_, problem, s_W, scratch, nullptr, &feasible);
+  if (end_W != nullptr) {
+    end_W->clear();
+    if (feasible) {
+      for (const auto& e : scratch.prediction.end) end_W->push_back(e.p_W);
+    } else {
+      end_W->assign(problem.positions_W.begin(), problem.positions_W.end());
+    }
+  }
+  return j;
+}
+
+PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) const {
+  check_problem(problem);
+  const size_t m = problem.positions_W.size();
+  const CemParameters& p = params_;
+  const int n = p.samples;
+  const int n_elite = p.elite;
+  Scratch scratch;
+  PlanResult result;
+
+  // The search space. Line: s = p_a + x e with e the unit vector from the anchor's reference to
+  // the anchor (pushing "away from the reference point"), x ~ N(mu, Sigma). Plane: s ~ N(mu, Sigma).
+  size_t anchor = 0;
+  Eigen::Vector2d e = Eigen::Vector2d::UnitX();
+  if (p.search == CemSearch::kLine) {
+    if (problem.anchor >= 0) {
+      anchor = static_cast<size_t>(problem.anchor);
+    } else {
+      double farthest = -1.0;
+      for (size_t j = 0; j < m; ++j) {
+        const double d = (problem.positions_W[j] - problem.references_W[j]).norm();
+        if (d > farthest) {
+          farthest = d;
+          anchor = j;
+        }
+      }
+    }
+    const Eigen::Vector2d away = problem.positions_W[anchor] - problem.references_W[anchor];
+    if (away.norm() > 1e-9) e = away.normalized();
+  }
+  auto to_point = [&](const Eigen::Vector2d& z) -> Eigen::Vector2d {
+    return p.search == CemSearch::kLine ? Eigen::Vector2d(problem.positions_W[anchor] + z.x() * e)
+                                        : z;
+  };
+
+  Eigen::Vector2d mu;
+  Eigen::Matrix2d sigma = Eigen::Matrix2d::Zero();
+  if (p.search == CemSearch::kLine) {
+    mu = Eigen::Vector2d(p.mean0_m, 0.0);
+    sigma(0, 0) = p.variance0_m2;
+  } else {
+    mu.setZero();
+    for (const auto& q : problem.positions_W) mu += q;
+    mu /= static_cast<double>(m);
+    sigma = Eigen::Matrix2d::Identity() * p.variance0_m2;
+  }
+
+  std::vector<Eigen::Vector2d> z(n);
+  std::vector<double> costs(n);
+  std::vector<int> order(n);
+  double best_cost = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d best_z = mu;
+  for (int it = 0; it < p.max_iterations; ++it) {
+    // Sample: x = mu + L w, L the Cholesky factor of Sigma (a 2x2 written out; Sigma is PSD).
+    const double l00 = std::sqrt(std::max(0.0, sigma(0, 0)));
+    const double l10 = l00 > 0.0 ? sigma(1, 0) / l00 : 0.0;
+    const double l11 = std::sqrt(std::max(0.0, sigma(1, 1) - l10 * l10));
+    for (int i = 0; i < n; ++i) {
+      const double w0 = rng.normal();
+      const double w1 = p.search == CemSearch::kPlane ? rng.normal() : 0.0;
+      z[i] = mu + Eigen::Vector2d(l00 * w0, l10 * w0 + l11 * w1);
+      bool feasible = false;
+      costs[i] = evaluate(model_, predictor_, p, problem, to_point(z[i]), scratch, nullptr,
+                          &feasible);
+      result.evaluations += feasible ? 1 : 0;
+      if (costs[i] < best_cost) {
+        best_cost = costs[i];
+        best_z = z[i];
+      }
+    }
+    // The n* cheapest refit the Gaussian (ties keep sampling order: deterministic).
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return costs[a] < costs[b]; });
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (int k = 0; k < n_elite; ++k) mean += z[order[k]];
+    mean /= static_cast<double>(n_elite);
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (int k = 0; k < n_elite; ++k) {
+      const Eigen::Vector2d d = z[order[k]] - mean;
+      cov += d * d.transpose();
+    }
+    cov /= static_cast<double>(n_elite);
+    mu = mean;
+    sigma = cov;
+    result.iterations = it + 1;
+    const double spread = p.search == CemSearch::kLine ? sigma(0, 0) : sigma.norm();
+    if (spread < p.converged_variance_m2) {
+      result.converged = true;
+      break;
+    }
+  }
+
+  // s* is the final mean (section V-A). Should the mean itself be infeasible (the elites straddle
+  // an object's penalty disc), the cheapest candidate seen stands in for it.
+  NozzleOrientation orientation;
+  bool feasible = false;
+  Eigen::Vector2d s = to_point(mu);
+  double j = evaluate(model_, predictor_, p, problem, s, scratch, &orientation, &feasible);
+  if (!feasible && best_cost < p.penalty) {
+    s = to_point(best_z);
+    j = evaluate(model_, predictor_, p, problem, s, scratch, &orientation, &feasible);
+  }
+  if (!feasible) {
+    // Nothing feasible: hold s where the nozzle can put it, as far out along the search as the
+    // tilt range allows, so the rig keeps a defined orientation.
+    const double r_max = 0.999 * max_stagnation_radius(model_.geometry());
+    if (s.norm() > r_max) s *= r_max / s.norm();
+    const AimResult aim = aim_at_stagnation(model_.geometry(), s, problem.pan_hint_rad);
+    if (aim.reachable()) orientation = *aim.orientation;
+    j = p.penalty;
+  }
+  result.stagnation_W = s;
+  result.orientation = orientation;
+  result.cost = j;
+  result.predicted_end_W.resize(m);
+  for (size_t k = 0; k < m; ++k) {
+    result.predicted_end_W[k] =
+        feasible ? scratch.prediction.end[k].p_W : problem.positions_W[k];
+  }
+  return result;
+}
+
+}  // namespace airtwin

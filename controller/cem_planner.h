@@ -1,0 +1,116 @@
+#pragma once
+// The model-based controller of section V-A: the cross-entropy method (CEM) over the stagnation
+// point s. Candidates s are drawn from a Gaussian, each is turned into the nozzle orientation of
+// eqs. (1)-(2), the objects' trajectories over Delta T are predicted with eqs. (8)-(9) (the fast
+// predictor), and scored by eq. (10):
+//   J = J_P                          if some object starts within delta_min of s,
+//   J = sum_j || p_j^end - r_j ||    otherwise.
+// The n* cheapest candidates refit the Gaussian; the loop stops when the variance falls below
+// Sigma* (the Frobenius norm of the covariance for the bivariate search) or after i_max
+// iterations, and returns the final mean.
+//
+// Two searches, as in the paper:
+//  - line (path following, aggregation; sections V-B, V-C): s on the ray from the anchor object
+//    (the only one, or the one farthest from its reference) directly away from its reference;
+//    a univariate Gaussian over the distance from the anchor, mu0 41.8 cm, Sigma0 20.9 cm^2,
+//    n 25, n* 3, i_max 5, Sigma* 0.3 cm^2.
+//  - plane (sorting, section V-C): s anywhere; a bivariate Gaussian, mu0 the mean of the objects'
+//    positions, Sigma0 diag(31.3, 31.3) cm^2, n 100, n* 10, i_max 5, ||Sigma||_F* 0.5 cm^2.
+// SI inside: the paper's cm and cm^2 become m and m^2 (20.9 cm^2 = 20.9e-4 m^2).
+//
+// Candidates the nozzle cannot produce (beyond the tilt range) cost J_P, like those too close to
+// an object. Deterministic: the samples come from a RandomStream the caller seeds.
+
+#include <Eigen/Core>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/random_stream.h"
+#include "models/air_field.h"
+#include "models/fast_predictor.h"
+#include "models/nozzle_geometry.h"
+#include "models/object_dynamics.h"
+#include "models/trajectory_predictor.h"
+
+namespace airtwin {
+
+enum class CemSearch { kLine, kPlane };
+
+/// "line" or "plane".
+const char* cem_search_name(CemSearch search);
+
+struct CemParameters {
+  CemSearch search = CemSearch::kLine;
+  double horizon_s = 1.5;        ///< Delta T (s)
+  double penalty = 1e3;          ///< J_P (cost units: m, like the distances it competes with)
+  double min_distance_m = 0.10;  ///< delta_min (m)
+  /// Line: initial mean distance of s from the anchor (m). Plane: unused (mean of positions).
+  double mean0_m = 0.418;
+  /// Initial variance (m^2): of the distance (line), of each axis (plane).
+  double variance0_m2 = 20.9e-4;
+  int samples = 25;         ///< n
+  int elite = 3;            ///< n*
+  int max_iterations = 5;   ///< i_max
+  /// Sigma* (m^2): the variance (line) or the covariance's Frobenius norm (plane) below which
+  /// the search has converged.
+  double converged_variance_m2 = 0.3e-4;
+
+  /// The paper's values for each search.
+  static CemParameters line_defaults();
+  static CemParameters plane_defaults();
+
+  /// Throws InputError naming `source` and the field when a value is not finite or out of range
+  /// (elite must be in [1, samples]).
+  void validate(const std::string& source) const;
+};
+
+/// One decision's inputs.
+struct PlanningProblem {
+  std::span<const Eigen::Vector2d> positions_W;  ///< p_j^init (m)
+  /// Each object's current speed (m/s, >= 0) along its radial direction from the candidate s is
+  /// taken as max(0, v_W . e_r): what carries over under eq. (9) when the orientation changes.
+  std::span<const Eigen::Vector2d> velocities_W;
+  std::span<const ObjectDynamics> dynamics;      ///< eq. (8) coefficients per object
+  std::span<const Eigen::Vector2d> references_W; ///< r_j (m)
+  /// Line search only: the anchor object (farthest from its reference when < 0).
+  int anchor = -1;
+  /// Current nozzle pan (rad): the pan used for s at the origin.
+  double pan_hint_rad = 0.0;
+};
+
+struct PlanResult {
+  Eigen::Vector2d stagnation_W = Eigen::Vector2d::Zero();  ///< s* (m)
+  NozzleOrientation orientation;  ///< its nozzle orientation (eqs. 1-2 inverted)
+  double cost = 0.0;              ///< eq. (10) at s*
+  int iterations = 0;
+  int evaluations = 0;            ///< candidates predicted (J_P ones not counted)
+  bool converged = false;         ///< Sigma fell below Sigma*
+  /// Predicted end positions at s* (m), per object.
+  std::vector<Eigen::Vector2d> predicted_end_W;
+};
+
+class CemPlanner {
+ public:
+  /// `model` must outlive the planner. Throws InputError for invalid parameters.
+  CemPlanner(const AirFieldModel& model, const CemParameters& params,
+             const FastPredictor::Options& predictor_options = {});
+
+  /// One decision. Throws InputError when sizes differ, nothing is to be planned (no objects) or
+  /// a value is not finite. When no candidate is feasible the result has cost J_P and the
+  /// orientation is the last mean's nearest reachable one.
+  PlanResult plan(const PlanningProblem& problem, RandomStream& rng) const;
+
+  /// eq. (10) for one candidate s (J_P when infeasible); `end_W` receives the predicted ends.
+  double cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
+              std::vector<Eigen::Vector2d>* end_W = nullptr) const;
+
+  const CemParameters& parameters() const { return params_; }
+
+ private:
+  const AirFieldModel& model_;
+  CemParameters params_;
+  FastPredictor predictor_;
+};
+
+}  // namespace airtwin

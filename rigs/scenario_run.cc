@@ -1,0 +1,153 @@
+#include "rigs/scenario_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "common/errors.h"
+#include "common/units.h"
+#include "rigs/twin_rig.h"
+
+namespace airtwin {
+
+namespace {
+
+// The observation a rig would give before anything moved: the scenario's start positions.
+Observation start_observation(const Scenario& scenario) {
+  Observation o;
+  for (const ObjectSpec& spec : scenario.scene.objects) {
+    ObservedObject obj;
+    obj.id = spec.id;
+    obj.type = spec.type;
+    obj.p_W = spec.p_W;
+    o.objects.push_back(obj);
+  }
+  return o;
+}
+
+}  // namespace
+
+ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& field_model,
+                               const ScenarioRunOptions& options) {
+  ScenarioRunResult result;
+  result.scenario = scenario.name;
+  result.seed = options.seed;
+  result.n_objects = static_cast<int>(scenario.scene.objects.size());
+  if (scenario.scene.objects.empty()) {
+    throw InputError(scenario.source + ": the scenario has no objects");
+  }
+
+  // The nozzle starts where the controller would first aim, the jet running: the rig is ready
+  // when the run begins (a plan from the start positions, with its own random stream).
+  TwinParameters params = options.twin;
+  {
+    Controller first(field_model, scenario.controller, scenario.task, options.dynamics,
+                     options.seed ^ 0x5EEDF00Dull);
+    first.observe(start_observation(scenario));
+    params.initial_orientation = first.decide(0.0).plan.orientation;
+  }
+  params.jet_on_at_start = true;
+  Twin twin(scenario.scene, params, field_model, options.seed);
+  twin.settle_jet();
+
+  TruthPerception perception;
+  TwinRig rig(twin, perception);
+  RunMetrics metrics(scenario.task);
+  Controller controller(field_model, scenario.controller, scenario.task, options.dynamics,
+                        options.seed);
+
+  // The log: one trajectory per object, a row per camera frame, the commanded orientation.
+  result.log.has_group = true;
+  for (size_t i = 0; i < twin.object_count(); ++i) {
+    Trajectory t;
+    t.id = twin.object(i).id;
+    t.object = object_type_name(twin.object(i).type);
+    t.group = scenario.name;
+    result.log.trajectories.push_back(std::move(t));
+  }
+  std::vector<std::string> types;
+  for (size_t i = 0; i < twin.object_count(); ++i) {
+    types.push_back(object_type_name(twin.object(i).type));
+  }
+  LoopResult* loop_so_far = &result.loop;
+  rig.add_frame_observer([&](const Twin& tw, int64_t frame) {
+    const std::vector<ObjectMotion> motion = tw.object_states();
+    std::vector<Eigen::Vector2d> p(motion.size());
+    for (size_t i = 0; i < motion.size(); ++i) {
+      p[i] = motion[i].p_W;
+      TrajectorySample s;
+      s.t_s = tw.time();
+      s.p_W = p[i];
+      s.nozzle = tw.commanded_orientation();
+      result.log.trajectories[i].samples.push_back(s);
+    }
+    metrics.add_frame(p, types);
+    if (options.on_frame) options.on_frame(tw, frame, loop_so_far->decisions);
+  });
+
+  LoopOptions loop_options;
+  loop_options.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
+  loop_options.time_limit_s = scenario.task.time_limit_s;
+  result.loop = run_closed_loop(rig, controller, loop_options, [&](const DecisionRecord&) {
+    if (options.on_progress) options.on_progress(rig.time(), loop_options.time_limit_s);
+  });
+
+  result.path_error_m = metrics.path_error();
+  result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
+  result.objects_in_zone = metrics.objects_in_zone();
+  double sum = 0.0;
+  for (const auto& d : result.loop.decisions) {
+    sum += d.decision_ms;
+    result.decision_ms_max = std::max(result.decision_ms_max, d.decision_ms);
+  }
+  if (!result.loop.decisions.empty()) {
+    result.decision_ms_mean = sum / static_cast<double>(result.loop.decisions.size());
+  }
+  return result;
+}
+
+std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
+  using nlohmann::ordered_json;
+  ordered_json j;
+  j["scenario"] = r.scenario;
+  j["seed"] = r.seed;
+  j["success"] = r.loop.success;
+  j["completion_time_s"] =
+      r.loop.completion_time_s ? ordered_json(*r.loop.completion_time_s) : ordered_json(nullptr);
+  if (r.path_error_m.count > 0) {
+    j["path_error_cm"] = {{"mean", 100.0 * r.path_error_m.mean},
+                          {"std", 100.0 * r.path_error_m.std},
+                          {"max", 100.0 * r.path_error_m.max}};
+  } else {
+    j["path_error_cm"] = nullptr;
+  }
+  j["max_pairwise_distance_cm"] = 100.0 * r.max_pairwise_distance_m;
+  j["objects_in_zone"] = r.objects_in_zone;
+  j["n_objects"] = r.n_objects;
+  j["decisions"] = r.loop.decisions.size();
+  j["decision_ms"] = {{"mean", r.decision_ms_mean}, {"max", r.decision_ms_max}};
+  j["end_time_s"] = r.loop.end_time_s;
+  j["time_limit_s"] = time_limit_s;
+  return j.dump(2) + "\n";
+}
+
+std::string decisions_csv(const ScenarioRunResult& r) {
+  std::string out =
+      "t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,converged,"
+      "n_observed,decision_ms\n";
+  char line[512];
+  for (const auto& d : r.loop.decisions) {
+    std::snprintf(line, sizeof line, "%.6f,%zu,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%d,%.3f\n",
+                  d.t_s, d.reference_index, d.reference_W.x(), d.reference_W.y(),
+                  d.plan.stagnation_W.x(), d.plan.stagnation_W.y(), rad_to_deg(d.plan.orientation.pan_rad),
+                  rad_to_deg(d.plan.orientation.tilt_rad), d.plan.cost, d.plan.iterations,
+                  d.plan.converged ? 1 : 0, d.n_observed, d.decision_ms);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace airtwin

@@ -1,0 +1,68 @@
+#pragma once
+// One closed-loop run of a scenario in the twin: the scenario's objects in a twin seeded with
+// `seed`, the CEM controller (controller/closed_loop.h) planning on the field model and the
+// identified dynamics, the twin rig in between, and the judge's figures from the twin's truth
+// (controller/run_metrics.h). What `airtwin run` writes, and what a batch runs many times: a run
+// depends on its scenario, options and seed only (not on the thread it runs in).
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "controller/closed_loop.h"
+#include "controller/run_metrics.h"
+#include "models/air_field.h"
+#include "models/object_dynamics.h"
+#include "models/trajectory_data.h"
+#include "scenes/scenario.h"
+#include "sim/twin.h"
+
+namespace airtwin {
+
+struct ScenarioRunOptions {
+  uint64_t seed = 0;
+  /// The twin's fixed physics (defaults: the calibrated twin of docs/twin.md).
+  TwinParameters twin;
+  /// eq. (8) coefficients the controller plans with, per object type (defaults: the paper's).
+  std::map<std::string, ObjectDynamics> dynamics = {{"tracer", kTracerDynamics},
+                                                    {"cotton", kCottonDynamics}};
+  /// Called every camera frame (after the observers below), e.g. for a video.
+  std::function<void(const Twin&, int64_t frame, const std::vector<DecisionRecord>& decisions)>
+      on_frame;
+  /// Called after each decision with the rig time and the time limit (progress display).
+  std::function<void(double t_s, double limit_s)> on_progress;
+};
+
+struct ScenarioRunResult {
+  std::string scenario;
+  uint64_t seed = 0;
+  LoopResult loop;
+  ErrorStats path_error_m;
+  double max_pairwise_distance_m = 0.0;
+  int objects_in_zone = 0;
+  int n_objects = 0;
+  double decision_ms_mean = 0.0, decision_ms_max = 0.0;
+  /// Every object's true position every camera frame, with the commanded nozzle orientation:
+  /// the trajectory CSV of docs/data_formats.md (group = scenario name).
+  TrajectorySet log;
+};
+
+/// Runs `scenario` in the twin under `field_model`. Throws InputError for unusable inputs,
+/// SimulationError when the twin fails.
+ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& field_model,
+                               const ScenarioRunOptions& options);
+
+/// summary.json: scenario, seed, success, completion_time_s (null when not done),
+/// path_error_cm {mean, std, max} (null for zone tasks), max_pairwise_distance_cm,
+/// objects_in_zone, n_objects, decisions, decision_ms {mean, max}, then end_time_s and
+/// time_limit_s. 2-space indented.
+std::string run_summary_json(const ScenarioRunResult& result, double time_limit_s);
+
+/// decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,
+/// converged,n_observed,decision_ms.
+std::string decisions_csv(const ScenarioRunResult& result);
+
+}  // namespace airtwin

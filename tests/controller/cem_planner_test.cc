@@ -1,0 +1,157 @@
+#include "controller/cem_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "common/errors.h"
+#include "models/cvode_predictor.h"
+
+namespace airtwin {
+namespace {
+
+class CemPlannerTest : public ::testing::Test {
+ protected:
+  AirFieldModel model_ = AirFieldModel::with_default_table();
+  std::vector<Eigen::Vector2d> p_ = {{0.20, -0.10}, {0.26, 0.02}, {0.12, 0.05}};
+  std::vector<Eigen::Vector2d> v_ = {{0.0, 0.0}, {0.05, 0.0}, {0.0, 0.0}};
+  std::vector<ObjectDynamics> xi_ = {kTracerDynamics, kTracerDynamics, kCottonDynamics};
+  std::vector<Eigen::Vector2d> r_ = std::vector<Eigen::Vector2d>(3, Eigen::Vector2d(0.0, 0.0));
+
+  PlanningProblem problem() const {
+    PlanningProblem pr;
+    pr.positions_W = p_;
+    pr.velocities_W = v_;
+    pr.dynamics = xi_;
+    pr.references_W = r_;
+    return pr;
+  }
+};
+
+// eq. (10) against a second implementation: the CVODE reference predictor at tight tolerances,
+// the orientation from the inverse map, the radial speed carried over.
+TEST_F(CemPlannerTest, CostIsEquationTenWithTheReferencePredictor) {
+  const CemPlanner planner(model_, CemParameters::line_defaults());
+  const CvodePredictor cvode;
+  for (const Eigen::Vector2d& s : {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(0.45, -0.3),
+                                  Eigen::Vector2d(-0.2, 0.4)}) {
+    const AimResult aim = aim_at_stagnation(model_.geometry(), s);
+    ASSERT_TRUE(aim.reachable());
+    const OrientedField field = model_.at(*aim.orientation);
+    std::vector<ObjectState> start(3);
+    double expected = 0.0;
+    for (size_t j = 0; j < 3; ++j) {
+      const Eigen::Vector2d e = (p_[j] - field.stagnation_point()).normalized();
+      start[j] = ObjectState{p_[j], std::max(0.0, v_[j].dot(e))};
+    }
+    const Prediction pred = cvode.predict(field, xi_, start, PredictionOptions{1.5, 0.0});
+    for (size_t j = 0; j < 3; ++j) expected += (pred.end[j].p_W - r_[j]).norm();
+    std::vector<Eigen::Vector2d> ends;
+    const double j = planner.cost(problem(), s, &ends);
+    // The fast predictor is good to ~0.35 mm per object near s (docs/dynamics.md).
+    EXPECT_NEAR(j, expected, 3 * 0.5e-3) << s.transpose();
+    ASSERT_EQ(ends.size(), 3u);
+  }
+}
+
+TEST_F(CemPlannerTest, PenaltyNearAnObjectOrOutOfReach) {
+  const CemParameters params = CemParameters::line_defaults();
+  const CemPlanner planner(model_, params);
+  // Within delta_min = 10 cm of the third object.
+  EXPECT_EQ(planner.cost(problem(), Eigen::Vector2d(0.12, 0.14)), params.penalty);
+  // Just outside it, not penalised.
+  EXPECT_LT(planner.cost(problem(), Eigen::Vector2d(0.12, 0.1501 + 0.05)), params.penalty);
+  // Beyond the stagnation points the tilt range reaches.
+  EXPECT_EQ(planner.cost(problem(), Eigen::Vector2d(5.0, 0.0)), params.penalty);
+}
+
+TEST_F(CemPlannerTest, SameSeedSameDecisionOtherSeedOtherSamples) {
+  const CemPlanner planner(model_, CemParameters::plane_defaults());
+  RandomStream a(7, RandomPurpose::kController, 0), b(7, RandomPurpose::kController, 0),
+      c(8, RandomPurpose::kController, 0);
+  const PlanResult ra = planner.plan(problem(), a);
+  const PlanResult rb = planner.plan(problem(), b);
+  const PlanResult rc = planner.plan(problem(), c);
+  EXPECT_EQ(ra.stagnation_W, rb.stagnation_W);
+  EXPECT_EQ(ra.cost, rb.cost);
+  EXPECT_NE(ra.stagnation_W, rc.stagnation_W);
+}
+
+// The line search ends near the best point of its line: no worse than a dense scan of the
+// region its first Gaussian covers (+-3 sigma), by more than a centimetre of summed distance.
+TEST_F(CemPlannerTest, LineSearchFindsTheScanMinimum) {
+  CemParameters params = CemParameters::line_defaults();
+  params.variance0_m2 = 0.01;  // sigma 10 cm: a region with structure for the test
+  params.mean0_m = 0.30;
+  params.max_iterations = 10;
+  const CemPlanner planner(model_, params);
+  PlanningProblem pr = problem();
+  pr.anchor = 1;
+  RandomStream rng(3, RandomPurpose::kController, 0);
+  const PlanResult result = planner.plan(pr, rng);
+  const Eigen::Vector2d e = (p_[1] - r_[1]).normalized();
+  double best = 1e9;
+  for (double x = 0.0; x <= 0.6; x += 0.002) best = std::min(best, planner.cost(pr, p_[1] + x * e));
+  ASSERT_LT(best, params.penalty);
+  EXPECT_LE(result.cost, best + 0.01);
+  // s* is on the anchor's line, away from the reference.
+  const Eigen::Vector2d d = result.stagnation_W - p_[1];
+  EXPECT_NEAR(d.normalized().dot(e), 1.0, 1e-9);
+  EXPECT_GT(result.evaluations, 0);
+  // Its orientation puts s where it says (eqs. 1-2).
+  EXPECT_NEAR((stagnation_point(model_.geometry(), result.orientation) - result.stagnation_W).norm(),
+              0.0, 1e-9);
+}
+
+TEST_F(CemPlannerTest, PlaneSearchBeatsDoingNothingWhenItCan) {
+  // One tracer 30 cm from its reference: some stagnation point must bring it closer.
+  p_ = {{0.3, 0.0}};
+  v_ = {{0.0, 0.0}};
+  xi_ = {kTracerDynamics};
+  r_ = {{0.0, 0.0}};
+  CemParameters params = CemParameters::plane_defaults();
+  params.variance0_m2 = 0.09;
+  const CemPlanner planner(model_, params);
+  RandomStream rng(1, RandomPurpose::kController, 0);
+  const PlanResult result = planner.plan(problem(), rng);
+  EXPECT_LT(result.cost, 0.3 - 0.05);
+  EXPECT_GE((result.stagnation_W - p_[0]).norm(), params.min_distance_m);
+}
+
+TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {
+  const CemParameters line = CemParameters::line_defaults();
+  EXPECT_EQ(line.samples, 25);
+  EXPECT_EQ(line.elite, 3);
+  EXPECT_DOUBLE_EQ(line.mean0_m, 0.418);
+  EXPECT_DOUBLE_EQ(line.variance0_m2, 20.9e-4);
+  const CemParameters plane = CemParameters::plane_defaults();
+  EXPECT_EQ(plane.samples, 100);
+  EXPECT_EQ(plane.elite, 10);
+  EXPECT_DOUBLE_EQ(plane.converged_variance_m2, 0.5e-4);
+  CemParameters bad = line;
+  bad.elite = 30;
+  try {
+    bad.validate("s.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("controller.elite"), std::string::npos);
+  }
+  bad = line;
+  bad.horizon_s = std::nan("");
+  EXPECT_THROW(bad.validate("s.yaml"), InputError);
+}
+
+TEST_F(CemPlannerTest, BadProblemsAreInputErrors) {
+  const CemPlanner planner(model_, CemParameters::line_defaults());
+  RandomStream rng(1, RandomPurpose::kController, 0);
+  PlanningProblem pr = problem();
+  std::vector<Eigen::Vector2d> two(2, Eigen::Vector2d::Zero());
+  pr.references_W = two;
+  EXPECT_THROW(planner.plan(pr, rng), InputError);
+  p_[0].x() = std::nan("");
+  EXPECT_THROW(planner.plan(problem(), rng), InputError);
+}
+
+}  // namespace
+}  // namespace airtwin

@@ -1,0 +1,126 @@
+#include "controller/closed_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/errors.h"
+#include "models/cvode_predictor.h"
+
+namespace airtwin {
+namespace {
+
+// A rig whose objects obey the controller's own model exactly (eqs. 8-9 integrated by CVODE
+// under the commanded orientation, applied at once): what the loop does with perfect physics.
+class ModelRig final : public Rig {
+ public:
+  ModelRig(const AirFieldModel& model, std::vector<ObservedObject> objects)
+      : model_(model), objects_(std::move(objects)), v_(objects_.size(), 0.0) {}
+
+  Observation observe() override {
+    ++observations_;
+    Observation o;
+    o.t_s = t_;
+    for (size_t j = 0; j < objects_.size(); ++j) {
+      if (hide_every_ > 0 && j == 0 && observations_ % hide_every_ == 0) continue;
+      o.objects.push_back(objects_[j]);
+    }
+    return o;
+  }
+  void aim(const NozzleOrientation& target) override {
+    orientation_ = target;
+    ++aims_;
+  }
+  void wait(double duration_s) override {
+    const OrientedField field = model_.at(orientation_);
+    std::vector<ObjectDynamics> xi;
+    std::vector<ObjectState> start;
+    for (size_t j = 0; j < objects_.size(); ++j) {
+      xi.push_back(objects_[j].type == "tracer" ? kTracerDynamics : kCottonDynamics);
+      const Eigen::Vector2d e = (objects_[j].p_W - field.stagnation_point()).normalized();
+      start.push_back(ObjectState{objects_[j].p_W, std::max(0.0, objects_[j].v_W.dot(e))});
+    }
+    const Prediction p = cvode_.predict(field, xi, start, PredictionOptions{duration_s, 0.0});
+    for (size_t j = 0; j < objects_.size(); ++j) {
+      const Eigen::Vector2d e = (p.end[j].p_W - field.stagnation_point()).normalized();
+      objects_[j].p_W = p.end[j].p_W;
+      objects_[j].v_W = p.end[j].v * e;
+    }
+    t_ += duration_s;
+  }
+  double time() const override { return t_; }
+
+  int aims_ = 0;
+  int hide_every_ = 0;
+
+ private:
+  const AirFieldModel& model_;
+  CvodePredictor cvode_;
+  std::vector<ObservedObject> objects_;
+  std::vector<double> v_;
+  NozzleOrientation orientation_;
+  double t_ = 0.0;
+  int observations_ = 0;
+};
+
+TaskSpec line_task() {
+  TaskSpec t;
+  t.kind = TaskKind::kPath;
+  t.path_W = {{-0.26, 0.25}, {0.26, 0.25}};
+  t.time_limit_s = 120.0;
+  return t;
+}
+
+TEST(ClosedLoop, FollowsALineUnderItsOwnModel) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  ModelRig rig(model, {ObservedObject{"t1", "tracer", {-0.26, 0.25}, {0, 0}}});
+  CemParameters cem = CemParameters::line_defaults();
+  cem.mean0_m = 0.3;
+  cem.variance0_m2 = 40e-4;
+  Controller controller(model, cem, line_task(), {{"tracer", kTracerDynamics}}, 1);
+  const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.5, 120.0});
+  ASSERT_TRUE(result.success);
+  ASSERT_TRUE(result.completion_time_s.has_value());
+  // Six references 10 cm apart: at least a few decisions, and the loop stops when done.
+  EXPECT_GE(result.decisions.size(), 3u);
+  EXPECT_EQ(rig.aims_, static_cast<int>(result.decisions.size()));
+  EXPECT_DOUBLE_EQ(result.end_time_s, 1.5 * static_cast<double>(result.decisions.size()));
+  // Decisions are 1.5 s apart and look at the rig's clock.
+  for (size_t k = 0; k < result.decisions.size(); ++k) {
+    EXPECT_DOUBLE_EQ(result.decisions[k].t_s, 1.5 * static_cast<double>(k));
+  }
+  EXPECT_LT((controller.known().at("t1").p_W - Eigen::Vector2d(0.26, 0.25)).norm(), 0.04);
+}
+
+TEST(ClosedLoop, StopsAtTheTimeLimitAndRemembersUnseenObjects) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  // Two objects, the first hidden from every other observation: the controller keeps planning
+  // for both.
+  ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}},
+                       ObservedObject{"b", "tracer", {-0.5, 0.1}, {0, 0}}});
+  rig.hide_every_ = 2;
+  TaskSpec agg;
+  agg.kind = TaskKind::kAggregation;
+  agg.zone = Zone{{0.0, 0.0}, 0.01};  // too small to reach: the limit ends the run
+  agg.time_limit_s = 6.0;
+  Controller controller(model, CemParameters::line_defaults(), agg, {{"tracer", kTracerDynamics}},
+                        2);
+  const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.8, 6.0});
+  EXPECT_FALSE(result.success);
+  EXPECT_DOUBLE_EQ(result.end_time_s, 6.0);
+  ASSERT_FALSE(result.decisions.empty());
+  for (const auto& d : result.decisions) EXPECT_EQ(d.n_known, 2);
+  EXPECT_EQ(result.decisions[1].n_observed, 1);
+}
+
+TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  ModelRig rig(model, {ObservedObject{"g", "glass", {0.3, 0.0}, {0, 0}}});
+  Controller controller(model, CemParameters::line_defaults(), line_task(),
+                        {{"tracer", kTracerDynamics}}, 1);
+  EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{1.5, 10.0}), InputError);
+  EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{0.0, 10.0}), InputError);
+}
+
+}  // namespace
+}  // namespace airtwin

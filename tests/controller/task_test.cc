@@ -1,0 +1,143 @@
+#include "controller/task.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/errors.h"
+
+namespace airtwin {
+namespace {
+
+TaskSpec line_task() {
+  TaskSpec t;
+  t.kind = TaskKind::kPath;
+  t.path_W = {{-0.26, 0.25}, {0.26, 0.25}};
+  t.reference_spacing_m = 0.10;
+  t.switch_distance_m = 0.04;
+  return t;
+}
+
+TEST(PathReferences, SpacedAlongTheArcWithTheEndIncluded) {
+  const auto refs = path_references(line_task());
+  // 52 cm: points at 10, 20, 30, 40, 50 cm and the end at 52 cm.
+  ASSERT_EQ(refs.size(), 6u);
+  for (size_t i = 0; i < 5; ++i) {
+    EXPECT_NEAR(refs[i].x(), -0.26 + 0.1 * static_cast<double>(i + 1), 1e-12);
+    EXPECT_NEAR(refs[i].y(), 0.25, 1e-12);
+  }
+  EXPECT_NEAR(refs[5].x(), 0.26, 1e-12);
+}
+
+TEST(PathReferences, SpacingCarriesAroundCorners) {
+  TaskSpec t = line_task();
+  t.path_W = {{0, 0}, {0.15, 0}, {0.15, 0.15}};
+  const auto refs = path_references(t);
+  // Arc lengths 0.1 (first leg), 0.2 (0.05 up the second leg), 0.3 = end.
+  ASSERT_EQ(refs.size(), 3u);
+  EXPECT_TRUE(refs[0].isApprox(Eigen::Vector2d(0.1, 0.0)));
+  EXPECT_NEAR((refs[1] - Eigen::Vector2d(0.15, 0.05)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((refs[2] - Eigen::Vector2d(0.15, 0.15)).norm(), 0.0, 1e-12);
+}
+
+TEST(PathReferences, VerticesAfterTheFirst) {
+  TaskSpec t = line_task();
+  t.vertices_as_references = true;
+  t.path_W = {{0.3, 0}, {0, 0.3}, {-0.3, 0}, {0.3, 0}};
+  const auto refs = path_references(t);
+  ASSERT_EQ(refs.size(), 3u);
+  EXPECT_EQ(refs[0], t.path_W[1]);
+  EXPECT_EQ(refs[2], t.path_W[3]);
+}
+
+TEST(DistanceToPath, MatchesDenseSampling) {
+  const std::vector<Eigen::Vector2d> path = {{0, 0}, {0.3, 0.1}, {0.2, 0.5}, {-0.4, 0.2}};
+  // Independent check: the closest of 1e5 points sampled along the polyline.
+  std::vector<Eigen::Vector2d> dense;
+  for (size_t i = 1; i < path.size(); ++i) {
+    for (int k = 0; k <= 30000; ++k) {
+      dense.push_back(path[i - 1] + (path[i] - path[i - 1]) * (k / 30000.0));
+    }
+  }
+  for (const Eigen::Vector2d& q : {Eigen::Vector2d(0.1, 0.3), Eigen::Vector2d(-0.5, -0.1),
+                                  Eigen::Vector2d(0.25, 0.3), Eigen::Vector2d(0.0, 0.0)}) {
+    double best = 1e9;
+    for (const auto& d : dense) best = std::min(best, (q - d).norm());
+    EXPECT_NEAR(distance_to_path(path, q), best, 2e-5) << q.transpose();
+  }
+}
+
+TEST(TaskProgress, OneObjectPassesSeveralPointsAtOnce) {
+  TaskProgress progress(line_task());
+  const std::vector<std::string> types = {"tracer"};
+  EXPECT_FALSE(progress.update({{-0.26, 0.25}}, types, 0.0));
+  EXPECT_EQ(progress.reference_index(), 0u);
+  // Near the 30 cm point but 19 cm from the current (10 cm) one: the index stays.
+  EXPECT_FALSE(progress.update({{0.03, 0.25}}, types, 1.0));
+  EXPECT_EQ(progress.reference_index(), 0u);
+  EXPECT_FALSE(progress.update({{-0.17, 0.25}}, types, 2.0));
+  EXPECT_EQ(progress.reference_index(), 1u);
+  EXPECT_TRUE(progress.references(types)[0].isApprox(Eigen::Vector2d(-0.06, 0.25)));
+  for (double x : {-0.06, 0.04, 0.14}) progress.update({{x, 0.25}}, types, 3.0);
+  EXPECT_FALSE(progress.done());
+  EXPECT_EQ(progress.reference_index(), 4u);
+  // 1 cm from both the 50 cm point and the end: both are passed in one update.
+  EXPECT_TRUE(progress.update({{0.25, 0.25}}, types, 4.5));
+  EXPECT_EQ(progress.done_time_s(), 4.5);
+}
+
+TEST(TaskProgress, GroupMovesOnOneCornerPerUpdateOnTheMeanDistance) {
+  TaskSpec t = line_task();
+  t.vertices_as_references = true;
+  t.switch_distance_m = 0.063;
+  t.path_W = {{0.3, 0}, {0, 0.3}, {0, 0.31}};
+  TaskProgress progress(t);
+  const std::vector<std::string> types(2, "tracer");
+  // Mean distance 0.07 > 0.063: stays; 0.05: moves on, but only one corner although the next is
+  // also near.
+  progress.update({{0.0, 0.23}, {0.0, 0.37}}, types, 0.0);
+  EXPECT_EQ(progress.reference_index(), 0u);
+  progress.update({{0.0, 0.25}, {0.0, 0.35}}, types, 1.0);
+  EXPECT_EQ(progress.reference_index(), 1u);
+  EXPECT_TRUE(progress.update({{0.0, 0.28}, {0.0, 0.33}}, types, 2.0));
+}
+
+TEST(TaskProgress, ZonesPerTypeAndAggregation) {
+  TaskSpec sort;
+  sort.kind = TaskKind::kSorting;
+  sort.zones_by_type = {{"tracer", Zone{{-0.6, 0}, 0.105}}, {"cotton", Zone{{0.6, 0}, 0.105}}};
+  TaskProgress progress(sort);
+  const std::vector<std::string> types = {"tracer", "cotton"};
+  EXPECT_EQ(progress.objects_in_zone({{-0.6, 0.1}, {0.0, 0.0}}, types), 1);
+  EXPECT_FALSE(progress.update({{-0.6, 0.1}, {0.6, 0.2}}, types, 1.0));
+  EXPECT_TRUE(progress.update({{-0.6, 0.1}, {0.65, 0.05}}, types, 2.0));
+  EXPECT_THROW(progress.references({"glass"}), InputError);
+
+  TaskSpec agg;
+  agg.kind = TaskKind::kAggregation;
+  agg.zone = Zone{{0, 0}, 0.185};
+  TaskProgress a(agg);
+  const auto r = a.references({"tracer", "cotton"});
+  EXPECT_EQ(r[0], Eigen::Vector2d::Zero());
+  EXPECT_EQ(r[1], Eigen::Vector2d::Zero());
+}
+
+TEST(TaskSpec, ValidateNamesTheField) {
+  TaskSpec t = line_task();
+  t.path_W.resize(1);
+  try {
+    t.validate("x.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("task.path"), std::string::npos);
+  }
+  t = line_task();
+  t.time_limit_s = std::nan("");
+  EXPECT_THROW(t.validate("x.yaml"), InputError);
+  TaskSpec s;
+  s.kind = TaskKind::kSorting;
+  EXPECT_THROW(s.validate("x.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace airtwin
