@@ -13,6 +13,7 @@
 #include "app/progress.h"
 #include "common/errors.h"
 #include "models/identified_model.h"
+#include "rigs/run_video.h"
 #include "rigs/scenario_run.h"
 #include "scenes/scenario.h"
 #include "sim/effects.h"
@@ -26,6 +27,8 @@ struct RunArgs {
   std::string table;
   std::vector<std::string> models;
   std::vector<std::string> effects;
+  std::string video;
+  int video_stride = 1;
   uint64_t seed = 0;
   bool quiet = false;
 };
@@ -55,8 +58,26 @@ void run_run(const RunArgs& a) {
   };
 
   std::filesystem::create_directories(a.out);
+  std::unique_ptr<RunVideo> video;
+  if (!a.video.empty()) {
+    if (a.video_stride < 1) throw UsageError("--video-stride must be >= 1");
+    ensure_parent_dir(a.video);
+    video = std::make_unique<RunVideo>(a.video, scenario.task,
+                                       scenario.name + " seed " + std::to_string(a.seed),
+                                       a.video_stride);
+    options.on_frame = [&](const Twin& twin, int64_t frame,
+                           const std::vector<DecisionRecord>& decisions) {
+      video->on_frame(twin, frame, decisions);
+    };
+  }
   const ScenarioRunResult result = run_scenario(scenario, field, options);
   if (progress) progress->finish();
+  if (video) {
+    const VideoSummary v = video->close();
+    std::printf("video %s: %lld frames, %.1f s at %.0fx the simulation's speed\n", v.path.c_str(),
+                static_cast<long long>(v.frames_written), v.video_seconds,
+                static_cast<double>(a.video_stride));
+  }
   write_text_file(a.out + "/summary.json", run_summary_json(result, scenario.task.time_limit_s));
   write_text_file(a.out + "/log.csv", trajectory_csv(result.log));
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
@@ -99,6 +120,12 @@ void add_run_command(CLI::App& app) {
                   "dynamics the controller plans with instead of the paper's eq. (8)");
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
+  sub->add_option("--video", args->video,
+                  "Write the top camera with the overlay as H.264 MP4 (1024x1024, 40 fps) and a\n"
+                  "sidecar FILE.mp4.json");
+  sub->add_option("--video-stride", args->video_stride,
+                  "Keep every k-th camera frame in the video (it then plays k times faster)")
+      ->capture_default_str();
   sub->add_flag("--quiet", args->quiet, "No progress display");
   sub->callback([args] { run_run(*args); });
 }

@@ -72,7 +72,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   for (size_t i = 0; i < twin.object_count(); ++i) {
     types.push_back(object_type_name(twin.object(i).type));
   }
-  LoopResult* loop_so_far = &result.loop;
+  std::vector<DecisionRecord> decisions_so_far;  // for the frame callback, during the run
   rig.add_frame_observer([&](const Twin& tw, int64_t frame) {
     const std::vector<ObjectMotion> motion = tw.object_states();
     std::vector<Eigen::Vector2d> p(motion.size());
@@ -85,13 +85,14 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
       result.log.trajectories[i].samples.push_back(s);
     }
     metrics.add_frame(p, types);
-    if (options.on_frame) options.on_frame(tw, frame, loop_so_far->decisions);
+    if (options.on_frame) options.on_frame(tw, frame, decisions_so_far);
   });
 
   LoopOptions loop_options;
   loop_options.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
   loop_options.time_limit_s = scenario.task.time_limit_s;
-  result.loop = run_closed_loop(rig, controller, loop_options, [&](const DecisionRecord&) {
+  result.loop = run_closed_loop(rig, controller, loop_options, [&](const DecisionRecord& d) {
+    if (options.on_frame) decisions_so_far.push_back(d);
     if (options.on_progress) options.on_progress(rig.time(), loop_options.time_limit_s);
   });
 
