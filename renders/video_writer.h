@@ -42,8 +42,9 @@ struct VideoOptions {
 
   /// Throws InputError naming the option when a value is out of range.
   void validate() const;
-  /// Simulated seconds per second of video: stride * camera_rate_hz / fps (1 = real time).
-  double time_scale() const { return stride * camera_rate_hz / fps; }
+  /// Simulated seconds per second of video (1 = real time): fps video frames, each standing for
+  /// stride / camera_rate_hz simulated seconds.
+  double time_scale() const { return fps * stride / camera_rate_hz; }
 };
 
 /// What a finished video holds.

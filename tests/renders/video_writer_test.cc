@@ -124,6 +124,10 @@ TEST(VideoWriter, StrideKeepsEveryKthFrameAndReportsTheTimeScale) {
   EXPECT_EQ(s.frames_written, 4);  // 0, 3, 6, 9
   EXPECT_DOUBLE_EQ(s.time_scale, 3.0);
   EXPECT_DOUBLE_EQ(s.sim_seconds, 0.25);
+  // Frames offered at 20 Hz of simulated time, played at 40 fps: 2 simulated s per video s.
+  VideoOptions slow;
+  slow.camera_rate_hz = 20.0;
+  EXPECT_DOUBLE_EQ(slow.time_scale(), 2.0);
   const std::vector<cv::Mat> back = read_back(path);
   ASSERT_EQ(back.size(), 4u);
   for (int i = 0; i < 4; ++i) EXPECT_LT(mean_abs_diff(back[i], frames[3 * i]), 4.0) << i;
