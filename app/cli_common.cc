@@ -61,4 +61,11 @@ std::vector<double> parse_degree_list(const std::string& text, const std::string
   return out;
 }
 
+NoiseLevel parse_noise(const std::string& level) {
+  if (level == "none") return {0.0, 0.0};
+  if (level == "low") return {3.0, 0.7};
+  if (level == "high") return {6.0, 1.0};
+  throw UsageError("--noise: expected none, low or high, got '" + level + "'");
+}
+
 }  // namespace airtwin::cli

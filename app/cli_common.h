@@ -24,4 +24,12 @@ void ensure_parent_dir(const std::string& path);
 /// Writes `text` to `path` (creating the parent directory); throws InputError on failure.
 void write_text_file(const std::string& path, const std::string& text);
 
+/// The sensor levels of --noise (render, run --vision): none (0, 0), low (3 grey levels of
+/// noise, 0.7 px blur), high (6, 1.0). UsageError naming --noise otherwise.
+struct NoiseLevel {
+  double noise_sigma_grey = 0.0;
+  double blur_sigma_px = 0.0;
+};
+NoiseLevel parse_noise(const std::string& level);
+
 }  // namespace airtwin::cli

@@ -15,5 +15,7 @@ void add_collect_command(CLI::App& app);    // Appendix D protocol in the twin -
 void add_calibrate_dynamics_command(CLI::App& app);  // tune twin drag/friction to eq. (8)
 void add_run_command(CLI::App& app);  // section V: a scenario in closed loop in the twin
 void add_render_command(CLI::App& app);  // synthetic camera dataset of a scenario: frames, truth
+void add_calibrate_command(CLI::App& app);  // camera model from calibration-target frames
+void add_detect_command(CLI::App& app);  // detection + tracking on frames -> detections.csv
 
 }  // namespace airtwin::cli

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   airtwin::cli::add_calibrate_dynamics_command(app);
   airtwin::cli::add_run_command(app);
   airtwin::cli::add_render_command(app);
+  airtwin::cli::add_calibrate_command(app);
+  airtwin::cli::add_detect_command(app);
 
   try {
     app.parse(argc, argv);

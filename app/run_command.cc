@@ -29,6 +29,10 @@ struct RunArgs {
   std::vector<std::string> effects;
   std::string video;
   int video_stride = 1;
+  bool vision = false;
+  std::string calib;
+  double vision_rate_hz = 10.0;
+  std::string noise = "none";
   uint64_t seed = 0;
   bool quiet = false;
 };
@@ -58,6 +62,22 @@ void run_run(const RunArgs& a) {
   };
 
   std::filesystem::create_directories(a.out);
+  if (a.vision) {
+    const NoiseLevel noise = parse_noise(a.noise);
+    const double sigma = noise.noise_sigma_grey, blur = noise.blur_sigma_px;
+    options.vision.rate_hz = a.vision_rate_hz;
+    options.vision.noise_sigma_grey = sigma;
+    options.vision.blur_sigma_px = blur;
+    if (!a.calib.empty()) {
+      options.vision_camera = CalibratedCamera::read(a.calib);
+    } else {
+      // Calibrate the twin's camera as a user calibrates the rig's: frames of a checkerboard on
+      // the floor, kept in DIR/calibration with the result in DIR/calib.yaml.
+      options.vision_camera = calibrate_twin_camera(a.out + "/calibration", options.twin.scene,
+                                                    a.seed, sigma, blur);
+      options.vision_camera->write(a.out + "/calib.yaml");
+    }
+  }
   std::unique_ptr<RunVideo> video;
   if (!a.video.empty()) {
     if (a.video_stride < 1) throw UsageError("--video-stride must be >= 1");
@@ -125,6 +145,17 @@ void add_run_command(CLI::App& app) {
                   "sidecar FILE.mp4.json");
   sub->add_option("--video-stride", args->video_stride,
                   "Keep every k-th camera frame in the video (it then plays k times faster)")
+      ->capture_default_str();
+  sub->add_flag("--vision", args->vision,
+               "The controller sees through the detection pipeline on rendered frames (calibrated\n"
+               "camera, detection, tracking) instead of the twin's truth");
+  sub->add_option("--calib", args->calib,
+                  "With --vision: the camera model (calib.yaml from 'airtwin calibrate'); default:\n"
+                  "calibrate the twin's camera into DIR/calibration and DIR/calib.yaml");
+  sub->add_option("--vision-rate", args->vision_rate_hz,
+                  "With --vision: frames detected per simulated second (divides 40)")
+      ->capture_default_str();
+  sub->add_option("--noise", args->noise, "With --vision: sensor noise none | low | high")
       ->capture_default_str();
   sub->add_flag("--quiet", args->quiet, "No progress display");
   sub->callback([args] { run_run(*args); });

@@ -9,12 +9,16 @@
 namespace airtwin {
 
 Controller::Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
-                       std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed)
+                       std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
+                       double forget_after_s)
     : model_(model),
       planner_(model, cem),
       progress_(task),
       dynamics_(std::move(dynamics_by_type)),
-      rng_(seed, RandomPurpose::kController, 0) {}
+      rng_(seed, RandomPurpose::kController, 0),
+      forget_after_s_(forget_after_s) {
+  if (!(forget_after_s > 0.0)) throw InputError("controller: forget_after_s must be > 0");
+}
 
 bool Controller::observe(const Observation& observation) {
   for (const auto& o : observation.objects) {
@@ -22,12 +26,19 @@ bool Controller::observe(const Observation& observation) {
       throw InputError("controller: object '" + o.id + "' observed at a non-finite position");
     }
     known_[o.id] = o;
+    last_seen_s_[o.id] = observation.t_s;
   }
-  // Remembered objects not seen now are taken as at rest where last seen.
-  for (auto& [id, o] : known_) {
-    bool seen = false;
-    for (const auto& s : observation.objects) seen = seen || s.id == id;
-    if (!seen) o.v_W.setZero();
+  // Remembered objects not seen now are taken as at rest where last seen, and forgotten after
+  // forget_after_s.
+  for (auto it = known_.begin(); it != known_.end();) {
+    const double unseen_s = observation.t_s - last_seen_s_[it->first];
+    if (unseen_s > forget_after_s_) {
+      last_seen_s_.erase(it->first);
+      it = known_.erase(it);
+      continue;
+    }
+    if (unseen_s > 0.0) it->second.v_W.setZero();
+    ++it;
   }
   last_t_s_ = observation.t_s;
   last_observed_ = static_cast<int>(observation.objects.size());

@@ -4,7 +4,9 @@
 // until the task is done or its time is up. The loop knows the rig only through controller/rig.h.
 //
 // Objects are remembered by id: one the perception misses for a while keeps its last position
-// (at rest) in the plan and the task, as a person watching the rig would assume.
+// (at rest) in the plan and the task, as a person watching the rig would assume, until it has
+// been unseen for `forget_after_s` (a tracker that lost an object in a merge gives it a new id
+// when it reappears; the old id must not haunt the task).
 
 #include <Eigen/Core>
 #include <functional>
@@ -38,7 +40,8 @@ class Controller {
   /// `dynamics_by_type`: eq. (8) coefficients per object type (an observed type without an entry
   /// is an InputError at the first decision). `model` must outlive the controller.
   Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
-             std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed);
+             std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
+             double forget_after_s = 3.0);
 
   /// Takes an observation: remembers the objects, updates the task; returns true when done.
   bool observe(const Observation& observation);
@@ -56,6 +59,8 @@ class Controller {
   std::map<std::string, ObjectDynamics> dynamics_;
   RandomStream rng_;
   std::map<std::string, ObservedObject> known_;
+  std::map<std::string, double> last_seen_s_;
+  double forget_after_s_;
   double last_t_s_ = 0.0;
   int last_observed_ = 0;
 };

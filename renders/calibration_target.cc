@@ -33,7 +33,7 @@ constexpr double kMargin = 0.04;
 constexpr double kThickness = 0.003;
 constexpr double kInkHeight = 0.0003;
 
-// Poses: propped views lean 15-35 deg; every third view (and the reference) lies flat.
+// Poses: propped views lean 15-35 deg; every other view (the reference first) lies flat.
 constexpr double kMinLean = deg_to_rad(15.0);
 constexpr double kMaxLean = deg_to_rad(35.0);
 // Board centres between these fractions of the camera's half view from the image centre (up to
@@ -46,7 +46,8 @@ constexpr double kImageMarginPx = 8.0;
 constexpr double kRigClearance = 0.08;
 constexpr double kRigTop = 0.12;  // hose end above the nozzle exit (m), sim/scene_builder.cc
 constexpr int kMaxAttempts = 500;
-// Multisampled frames: the edges of the squares are area-averaged as a camera's pixels do.
+// Multisampled frames: the edges of the squares are area-averaged as a camera's pixels do
+// (llvmpipe gives 4 samples at most; asking 8 or 16 renders the same bytes).
 constexpr int kMultisamples = 4;
 
 constexpr const char* kTargetFile = "target.yaml";
@@ -97,7 +98,8 @@ std::string target_body() {
   // Its geoms are massless visuals; MuJoCo still wants a body with mass (a 2 kg board).
   s << "    <inertial pos=\"0 0 0\" mass=\"2\" diaginertia=\"0.1 0.1 0.1\"/>\n";
   // The white board: from the floor side up to just below the ink.
-  s << "    <geom name=\"calib_board\" class=\"visual\" type=\"box\" material=\"calib_white\" pos=\""
+  s << "    <geom name=\"calib_board\" class=\"visual\" type=\"box\" material=\"calib_white\" "
+       "pos=\""
     << num(0.5 * (kMinX + kMaxX)) << ' ' << num(0.5 * (kMinY + kMaxY)) << ' '
     << num(-0.5 * (kThickness + kInkHeight)) << "\" size=\"" << num(0.5 * (kMaxX - kMinX)) << ' '
     << num(0.5 * (kMaxY - kMinY)) << ' ' << num(0.5 * (kThickness - kInkHeight)) << "\"/>\n";
@@ -109,9 +111,9 @@ std::string target_body() {
     for (int b = -1; b < kRows; ++b) {
       if ((a + b) % 2 != 0) continue;
       s << "    <geom class=\"visual\" type=\"box\" material=\"calib_black\" pos=\""
-        << num((a + 0.5) * kSquare) << ' ' << num((b + 0.5) * kSquare) << ' '
-        << num(-kInkHeight) << "\" size=\"" << num(0.5 * kSquare) << ' ' << num(0.5 * kSquare)
-        << ' ' << num(kInkHeight) << "\"/>\n";
+        << num((a + 0.5) * kSquare) << ' ' << num((b + 0.5) * kSquare) << ' ' << num(-kInkHeight)
+        << "\" size=\"" << num(0.5 * kSquare) << ' ' << num(0.5 * kSquare) << ' ' << num(kInkHeight)
+        << "\"/>\n";
     }
   }
   s << "  </body>\n";
@@ -147,8 +149,7 @@ bool board_fits(const BoardPose& pose, const GroundTruthCamera& camera,
     }
     hull_in.emplace_back(static_cast<float>(uv->x()), static_cast<float>(uv->y()));
   }
-  const std::optional<Eigen::Vector2d> rig_uv =
-      camera.project({0.0, 0.0, params.nozzle_height_m});
+  const std::optional<Eigen::Vector2d> rig_uv = camera.project({0.0, 0.0, params.nozzle_height_m});
   if (!rig_uv) return true;  // the rig is out of the picture
   const double rig_depth = camera.p_WC().z() - (params.nozzle_height_m + kRigTop);
   const double clearance_px =
@@ -211,7 +212,7 @@ BoardPose draw_pose(int view, int views, const ViewPlan& plan, double axis_sprea
       pose.R_WB = turn * pose.R_WB;
       pose.p_WB = q_W + turn * (pose.p_WB - q_W);
     }
-    if (board_fits(pose, camera, params)) { std::fprintf(stderr, "DBGPOSE view %d attempt %d dir %.1f reach %.2f centre %.2f %.2f\n", view, attempt, rad_to_deg(direction), reach, centre_W.x(), centre_W.y()); return pose; }
+    if (board_fits(pose, camera, params)) return pose;
   }
   std::string message = "calibration target: cannot place the board (";
   message += num(kMaxX - kMinX);
@@ -256,11 +257,13 @@ void write_target_file(const std::string& path, const BoardPose& reference) {
       "square size and thickness in m. Reference: the frame in which the board lies flat on the "
       "floor, its origin corner at (origin_x_m, origin_y_m) and its x axis at yaw_deg from the "
       "world's x axis.");
-  fs << "board" << "{";
+  fs << "board"
+     << "{";
   fs << "inner_corners_cols" << kCols << "inner_corners_rows" << kRows;
   fs << "square_size_m" << kSquare << "thickness_m" << kThickness;
   fs << "}";
-  fs << "reference" << "{";
+  fs << "reference"
+     << "{";
   fs << "frame" << frame_name(0);
   fs << "origin_x_m" << reference.p_WB.x() << "origin_y_m" << reference.p_WB.y();
   fs << "yaw_deg" << rad_to_deg(std::atan2(x_axis_W.y(), x_axis_W.x()));
@@ -284,8 +287,8 @@ int write_calibration_dataset(const std::string& dir, const SceneParameters& par
   const int mocap = m->body_mocapid[body];
 
   // Every pose first: a board that cannot be placed fails before any file is written.
-  // The plan: the reference and every third view flat, the others propped with their axes
-  // spread evenly over half a turn.
+  // The plan: the reference and every other view flat (boards on the floor all over the picture
+  // pin the floor's image), the others propped with their axes spread evenly over half a turn.
   std::vector<ViewPlan> plans(static_cast<size_t>(options.views));
   int n_lean = 0;
   for (int view = 0; view < options.views; ++view) n_lean += view % 2 != 0;
@@ -296,8 +299,8 @@ int write_calibration_dataset(const std::string& dir, const SceneParameters& par
   }
   std::vector<BoardPose> poses;
   for (int view = 0; view < options.views; ++view) {
-    poses.push_back(draw_pose(view, options.views, plans[static_cast<size_t>(view)],
-                              kPi / n_lean, options.seed, camera, params));
+    poses.push_back(draw_pose(view, options.views, plans[static_cast<size_t>(view)], kPi / n_lean,
+                              options.seed, camera, params));
   }
 
   // The folder, then one frame per pose.

@@ -13,12 +13,15 @@
 // z = x cross y out of the printed face; the square between inner corners 0, 1, 10 and 11 is black.
 //
 // The board is a mocap body of the twin's own scene (scene_xml with no objects: floor, nozzle rig,
-// camera `top`), rendered by FrameRenderer through the camera `top`. View 0 is the reference: the
-// board lies flat on the floor, its pose written to target.yaml as a person would measure it on
-// the rig. The other views lie flat or are propped up at 15-35 deg on one of the board's edges
-// (views of one plane alone, parallel to the image, cannot separate the focal length from the
-// camera height). Poses are drawn from the seed (RandomStream), each entirely in view and clear of
-// the nozzle rig that hangs in the middle of the picture.
+// camera `top`), rendered by FrameRenderer through the camera `top` (4x multisampled, so that the
+// squares' edges are area-averaged as a camera's pixels do). View 0 is the reference: the board
+// lies flat on the floor, its pose written to target.yaml as a person would measure it on the rig.
+// Every other view lies flat too, somewhere else (boards on the floor all over the picture pin the
+// floor's image); the rest are propped up at 15-35 deg on one of the board's edges, the edges'
+// directions spread over half a turn (views of one plane parallel to the image cannot separate
+// the focal length from the camera height). The views' board centres go round the picture in
+// sectors, out to its corners. Poses are drawn from the seed (RandomStream), each board entirely
+// in view and clear of the nozzle rig that hangs in the middle of the picture.
 
 #include <cstdint>
 #include <string>

@@ -53,8 +53,17 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   Twin twin(scenario.scene, params, field_model, options.seed);
   twin.settle_jet();
 
-  TruthPerception perception;
-  TwinRig rig(twin, perception);
+  TruthPerception truth;
+  std::unique_ptr<VisionPerception> vision;
+  Perception* perception = &truth;
+  if (options.vision_camera) {
+    VisionPerceptionOptions vo = options.vision;
+    vo.seed = options.seed;
+    vision = std::make_unique<VisionPerception>(*options.vision_camera, vo);
+    perception = vision.get();
+    result.perception = "vision";
+  }
+  TwinRig rig(twin, *perception);
   RunMetrics metrics(scenario.task);
   Controller controller(field_model, scenario.controller, scenario.task, options.dynamics,
                         options.seed);
@@ -96,6 +105,11 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
     if (options.on_progress) options.on_progress(rig.time(), loop_options.time_limit_s);
   });
 
+  if (vision) {
+    result.vision_frames = vision->frames_processed();
+    result.vision_frame_ms = vision->mean_frame_ms();
+    result.vision_counters = vision->counters();
+  }
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
   result.objects_in_zone = metrics.objects_in_zone();
@@ -132,6 +146,14 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["decision_ms"] = {{"mean", r.decision_ms_mean}, {"max", r.decision_ms_max}};
   j["end_time_s"] = r.loop.end_time_s;
   j["time_limit_s"] = time_limit_s;
+  j["perception"] = r.perception;
+  if (r.perception == "vision") {
+    const TrackerCounters& c = r.vision_counters;
+    j["vision"] = {{"frames", r.vision_frames},     {"frame_ms", r.vision_frame_ms},
+                   {"detections", c.detections},    {"tracks", c.new_tracks},
+                   {"missed", c.missed},            {"merged", c.merged},
+                   {"lost", c.lost},                {"left_view", c.left_view}};
+  }
   return j.dump(2) + "\n";
 }
 

@@ -18,7 +18,9 @@
 #include "models/object_dynamics.h"
 #include "models/trajectory_data.h"
 #include "scenes/scenario.h"
+#include "rigs/vision_perception.h"
 #include "sim/twin.h"
+#include "vision/calibrated_camera.h"
 
 namespace airtwin {
 
@@ -29,6 +31,10 @@ struct ScenarioRunOptions {
   /// eq. (8) coefficients the controller plans with, per object type (defaults: the paper's).
   std::map<std::string, ObjectDynamics> dynamics = {{"tracer", kTracerDynamics},
                                                     {"cotton", kCottonDynamics}};
+  /// Set: the controller sees through the detection pipeline with this calibrated camera
+  /// (`--vision`); unset: the twin's truth (fast mode).
+  std::optional<CalibratedCamera> vision_camera;
+  VisionPerceptionOptions vision;
   /// Called every camera frame (after the observers below), e.g. for a video.
   std::function<void(const Twin&, int64_t frame, const std::vector<DecisionRecord>& decisions)>
       on_frame;
@@ -45,6 +51,11 @@ struct ScenarioRunResult {
   int objects_in_zone = 0;
   int n_objects = 0;
   double decision_ms_mean = 0.0, decision_ms_max = 0.0;
+  /// "truth" or "vision"; for vision, the pipeline's figures.
+  std::string perception = "truth";
+  int64_t vision_frames = 0;
+  double vision_frame_ms = 0.0;
+  TrackerCounters vision_counters;
   /// Every object's true position every camera frame, with the commanded nozzle orientation:
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;

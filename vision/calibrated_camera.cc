@@ -31,10 +31,12 @@ std::optional<Eigen::Vector2d> undistort(const Eigen::Matrix<double, 5, 1>& k,
     if (residual.norm() < 1e-14) return x;
     constexpr double kStep = 1e-7;
     Eigen::Matrix2d J;
-    J.col(0) = (distort(k, x + Eigen::Vector2d(kStep, 0)) - distort(k, x - Eigen::Vector2d(kStep, 0))) /
-               (2 * kStep);
-    J.col(1) = (distort(k, x + Eigen::Vector2d(0, kStep)) - distort(k, x - Eigen::Vector2d(0, kStep))) /
-               (2 * kStep);
+    J.col(0) =
+        (distort(k, x + Eigen::Vector2d(kStep, 0)) - distort(k, x - Eigen::Vector2d(kStep, 0))) /
+        (2 * kStep);
+    J.col(1) =
+        (distort(k, x + Eigen::Vector2d(0, kStep)) - distort(k, x - Eigen::Vector2d(0, kStep))) /
+        (2 * kStep);
     if (!std::isfinite(J.determinant()) || std::abs(J.determinant()) < 1e-9) return std::nullopt;
     x -= J.lu().solve(residual);
     if (!x.allFinite()) return std::nullopt;
@@ -175,7 +177,8 @@ CalibratedCamera CalibratedCamera::read(const std::string& path) {
       throw InputError(path + ": cannot open the camera calibration file");
     }
   } catch (const cv::Exception&) {
-    throw InputError(path + ": not a YAML camera calibration file (cv::FileStorage cannot parse it)");
+    throw InputError(path +
+                     ": not a YAML camera calibration file (cv::FileStorage cannot parse it)");
   }
   const YamlReader in(path, fs);
 
@@ -186,8 +189,8 @@ CalibratedCamera CalibratedCamera::read(const std::string& path) {
   if (c.width_px <= 0) in.fail("width_px", "must be > 0");
   if (c.height_px <= 0) in.fail("height_px", "must be > 0");
   c.K = in.matrix<3, 3>("K");
-  if (!(c.K(0, 0) > 0) || !(c.K(1, 1) > 0) || c.K(1, 0) != 0 || c.K(2, 0) != 0 ||
-      c.K(2, 1) != 0 || c.K(2, 2) != 1) {
+  if (!(c.K(0, 0) > 0) || !(c.K(1, 1) > 0) || c.K(1, 0) != 0 || c.K(2, 0) != 0 || c.K(2, 1) != 0 ||
+      c.K(2, 2) != 1) {
     in.fail("K", "must be [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0");
   }
   c.distortion = in.matrix<5, 1>("distortion");

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <set>
 
@@ -25,9 +27,11 @@ namespace fs = std::filesystem;
 constexpr const char* kTargetFile = "target.yaml";
 // At least this many views with a board: fewer leave the intrinsics poorly determined.
 constexpr int kMinViews = 3;
+// The lens models are compared on at most this many views.
+constexpr size_t kModelViews = 16;
 // A board whose plane is within this angle (rad) and this fraction of the camera's distance of
 // the reference board's plane lies on the floor too (propped boards lean 15 deg or more).
-constexpr double kFloorAngle = 2.0 * 3.14159265358979323846 / 180.0;
+constexpr double kFloorAngle = deg_to_rad(2.0);
 constexpr double kFloorOffset = 0.01;
 
 std::string num(double x) {
@@ -96,9 +100,10 @@ bool is_image_file(const fs::path& path) {
 
 // Mean grey level of a small patch around `centre` (px), clipped to the image.
 double patch_mean(const cv::Mat& grey, const cv::Point2f& centre, int half) {
-  const int u = static_cast<int>(std::lround(centre.x)), v = static_cast<int>(std::lround(centre.y));
-  const cv::Rect patch =
-      cv::Rect(u - half, v - half, 2 * half + 1, 2 * half + 1) & cv::Rect(0, 0, grey.cols, grey.rows);
+  const int u = static_cast<int>(std::lround(centre.x)),
+            v = static_cast<int>(std::lround(centre.y));
+  const cv::Rect patch = cv::Rect(u - half, v - half, 2 * half + 1, 2 * half + 1) &
+                         cv::Rect(0, 0, grey.cols, grey.rows);
   if (patch.area() == 0) return 0.0;
   return cv::mean(grey(patch))[0];
 }
@@ -108,7 +113,9 @@ double patch_mean(const cv::Mat& grey, const cv::Point2f& centre, int half) {
 // the lighter of squares (0, 0) and (1, 0).
 void order_like_the_board(const cv::Mat& grey, int cols, int rows,
                           std::vector<cv::Point2f>& corners) {
-  auto at = [&](int i, int j) -> cv::Point2f& { return corners[static_cast<size_t>(j * cols + i)]; };
+  auto at = [&](int i, int j) -> cv::Point2f& {
+    return corners[static_cast<size_t>(j * cols + i)];
+  };
   // Handedness: in (u right, v down) pixels, a board seen from its printed side has
   // (x direction) cross (y direction) < 0.
   const cv::Point2f x = at(1, 0) - at(0, 0), y = at(0, 1) - at(0, 0);
@@ -284,9 +291,9 @@ enum class BoardKind { kReference, kFloor, kFree };
 struct JointView {
   const std::vector<cv::Point2f>* corners = nullptr;
   BoardKind kind = BoardKind::kFree;
-  FloorPose floor;                                         // kReference, kFloor
-  Eigen::Matrix3d R_CB = Eigen::Matrix3d::Identity();      // kFree
-  Eigen::Vector3d t_CB = Eigen::Vector3d::Zero();          // kFree
+  FloorPose floor;                                     // kReference, kFloor
+  Eigen::Matrix3d R_CB = Eigen::Matrix3d::Identity();  // kFree
+  Eigen::Vector3d t_CB = Eigen::Vector3d::Zero();      // kFree
 };
 
 // The joint fit of everything to every corner (a bundle adjustment): the intrinsics and lens
@@ -296,41 +303,51 @@ struct JointView {
 // depends on) wherever they lie, not just at the reference board, and the principal point and
 // the camera's tilt, nearly interchangeable for a camera looking straight down, stop trading
 // errors that grow towards the image's corners. Levenberg-Marquardt on the reprojection errors
-// (px) with central-difference Jacobians; rotations are updated as exp(w) R.
+// (px) with central-difference Jacobians, assembled view by view (a view depends on the shared
+// parameters and its own only, so the cost grows with the views, not their square); rotations
+// are updated as exp(w) R.
 class JointFit {
  public:
   JointFit(const CalibrationTarget& t, const IntrinsicModel& model, const CalibratedCamera& camera,
            std::vector<JointView> views)
-      : t_(&t), model_(model), camera_(camera), views_(std::move(views)) {}
+      : t_(&t), model_(model), camera_(camera), views_(std::move(views)) {
+    // Parameter layout: intrinsics (f or fx, fy; cx, cy), lens terms, the camera's rotation
+    // increment and t_C (the shared block), then per view (x, y, yaw) on the floor or a rotation
+    // increment and t_CB.
+    static const std::vector<int> kLensIndices[] = {{}, {0}, {0, 1}, {0, 1, 2, 3}, {0, 1, 2, 3, 4}};
+    lens_indices_ = kLensIndices[static_cast<int>(model.lens)];
+    intrinsics_ = (model.square_pixels ? 3 : 4) + static_cast<int>(lens_indices_.size());
+    Eigen::Index offset = intrinsics_ + 6;
+    for (const JointView& v : views_) {
+      offset_.push_back(offset);
+      offset += v.kind == BoardKind::kFloor ? 3 : v.kind == BoardKind::kFree ? 6 : 0;
+    }
+    size_ = offset;
+  }
 
   void run() {
     Eigen::VectorXd p = pack();
-    Eigen::VectorXd r = residuals(p);
-    double cost = r.squaredNorm(), lambda = 1e-3;
+    double cost = cost_at(p), lambda = 1e-3;
     for (int iteration = 0; iteration < 100; ++iteration) {
-      // Jacobian by central differences, steps relative to each parameter's size.
-      Eigen::MatrixXd J(r.size(), p.size());
-      for (Eigen::Index k = 0; k < p.size(); ++k) {
-        const double h = 1e-6 * std::max(1.0, std::abs(p[k]));
-        Eigen::VectorXd plus = p, minus = p;
-        plus[k] += h;
-        minus[k] -= h;
-        J.col(k) = (residuals(plus) - residuals(minus)) / (2 * h);
+      // Normal equations J^T J, J^T r, assembled view by view: a view's corners depend on the
+      // intrinsics, the camera pose (boards on the floor) and the view's own parameters only.
+      Eigen::MatrixXd JtJ = Eigen::MatrixXd::Zero(size_, size_);
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(size_);
+      const CalibratedCamera camera = camera_at(p);
+      for (size_t v = 0; v < views_.size(); ++v) {
+        accumulate_view(p, camera, v, JtJ, g);
       }
-      // Damped normal equations; a step that lowers the cost is taken and the damping eased.
-      const Eigen::MatrixXd JtJ = J.transpose() * J;
-      const Eigen::VectorXd g = J.transpose() * r;
+      // Damped steps; one that lowers the cost is taken and the damping eased.
       bool improved = false, converged = false;
       for (int tries = 0; tries < 12 && !improved; ++tries) {
         Eigen::MatrixXd A = JtJ;
         A.diagonal() += lambda * JtJ.diagonal().cwiseMax(1e-12);
         const Eigen::VectorXd trial = p + A.ldlt().solve(-g);
-        const Eigen::VectorXd r_trial = residuals(trial);
-        if (r_trial.allFinite() && r_trial.squaredNorm() < cost) {
-          converged = cost - r_trial.squaredNorm() < 1e-12 * cost;
+        const double trial_cost = cost_at(trial);
+        if (std::isfinite(trial_cost) && trial_cost < cost) {
+          converged = cost - trial_cost < 1e-12 * cost;
           p = trial;
-          r = r_trial;
-          cost = r.squaredNorm();
+          cost = trial_cost;
           lambda = std::max(lambda / 10, 1e-12);
           improved = true;
         } else {
@@ -339,12 +356,14 @@ class JointFit {
       }
       if (!improved || converged) break;
     }
-    unpack(p);
+    // Bake the fitted parameters in.
+    const CalibratedCamera camera = camera_at(p);
+    for (size_t v = 0; v < views_.size(); ++v) views_[v] = view_at(p, v);
+    camera_ = camera;
   }
 
   const CalibratedCamera& camera() const { return camera_; }
   const JointView& view(size_t v) const { return views_[v]; }
-  size_t size() const { return views_.size(); }
 
   // RMS reprojection error (px) of view v, and of all views, at the fitted parameters.
   double view_rms_px(size_t v) const {
@@ -352,60 +371,108 @@ class JointFit {
     return std::sqrt(r.squaredNorm() / (0.5 * static_cast<double>(r.size())));
   }
   double rms_px() const {
-    const Eigen::VectorXd r = residuals(pack());
-    return std::sqrt(r.squaredNorm() / (0.5 * static_cast<double>(r.size())));
+    double sum = 0.0;
+    for (const JointView& v : views_) sum += view_residuals(camera_, v).squaredNorm();
+    const double corners =
+        static_cast<double>(views_.size()) * t_->inner_corners_cols * t_->inner_corners_rows;
+    return std::sqrt(sum / corners);
   }
 
  private:
-  // The distortion coefficients the model fits (indices into k1 k2 p1 p2 k3).
-  std::vector<int> lens_indices() const {
-    static const std::vector<int> kIndices[] = {{}, {0}, {0, 1}, {0, 1, 2, 3}, {0, 1, 2, 3, 4}};
-    return kIndices[static_cast<int>(model_.lens)];
-  }
-
-  // Parameters: intrinsics (f or fx, fy; cx, cy), lens terms, the camera's rotation increment and
-  // t_C, then per view (x, y, yaw) on the floor or a rotation increment and t_CB.
   Eigen::VectorXd pack() const {
-    std::vector<double> p;
-    if (model_.square_pixels) {
-      p.push_back(camera_.K(0, 0));
-    } else {
-      p.push_back(camera_.K(0, 0));
-      p.push_back(camera_.K(1, 1));
-    }
-    p.push_back(camera_.K(0, 2));
-    p.push_back(camera_.K(1, 2));
-    for (int k : lens_indices()) p.push_back(camera_.distortion[k]);
-    for (int k = 0; k < 3; ++k) p.push_back(0.0);
-    for (int k = 0; k < 3; ++k) p.push_back(camera_.t_C[k]);
-    for (const JointView& v : views_) {
-      if (v.kind == BoardKind::kFloor) {
-        p.insert(p.end(), {v.floor.x, v.floor.y, v.floor.yaw});
-      } else if (v.kind == BoardKind::kFree) {
-        p.insert(p.end(), {0.0, 0.0, 0.0, v.t_CB.x(), v.t_CB.y(), v.t_CB.z()});
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(size_);
+    Eigen::Index i = 0;
+    p[i++] = camera_.K(0, 0);
+    if (!model_.square_pixels) p[i++] = camera_.K(1, 1);
+    p[i++] = camera_.K(0, 2);
+    p[i++] = camera_.K(1, 2);
+    for (int k : lens_indices_) p[i++] = camera_.distortion[k];
+    p.segment<3>(i + 3) = camera_.t_C;  // the rotation increment starts at 0
+    for (size_t v = 0; v < views_.size(); ++v) {
+      const JointView& view = views_[v];
+      if (view.kind == BoardKind::kFloor) {
+        p.segment<3>(offset_[v]) << view.floor.x, view.floor.y, view.floor.yaw;
+      } else if (view.kind == BoardKind::kFree) {
+        p.segment<3>(offset_[v] + 3) = view.t_CB;
       }
     }
-    return Eigen::Map<const Eigen::VectorXd>(p.data(), static_cast<Eigen::Index>(p.size()));
+    return p;
   }
 
-  void unpack(const Eigen::VectorXd& p) {
+  // The camera (intrinsics, lens, world pose) and view v at parameters p.
+  CalibratedCamera camera_at(const Eigen::VectorXd& p) const {
+    CalibratedCamera c = camera_;
     Eigen::Index i = 0;
-    camera_.K(0, 0) = p[i++];
-    camera_.K(1, 1) = model_.square_pixels ? camera_.K(0, 0) : p[i++];
-    camera_.K(0, 2) = p[i++];
-    camera_.K(1, 2) = p[i++];
-    for (int k : lens_indices()) camera_.distortion[k] = p[i++];
-    camera_.R_CW = rotation(p.segment<3>(i)) * camera_.R_CW;
-    camera_.t_C = p.segment<3>(i + 3);
-    i += 6;
-    for (JointView& v : views_) {
-      if (v.kind == BoardKind::kFloor) {
-        v.floor = FloorPose{p[i], p[i + 1], p[i + 2]};
-        i += 3;
-      } else if (v.kind == BoardKind::kFree) {
-        v.R_CB = rotation(p.segment<3>(i)) * v.R_CB;
-        v.t_CB = p.segment<3>(i + 3);
-        i += 6;
+    c.K(0, 0) = p[i++];
+    c.K(1, 1) = model_.square_pixels ? c.K(0, 0) : p[i++];
+    c.K(0, 2) = p[i++];
+    c.K(1, 2) = p[i++];
+    for (int k : lens_indices_) c.distortion[k] = p[i++];
+    c.R_CW = rotation(p.segment<3>(i)) * camera_.R_CW;
+    c.t_C = p.segment<3>(i + 3);
+    return c;
+  }
+
+  JointView view_at(const Eigen::VectorXd& p, size_t v) const {
+    JointView view = views_[v];
+    const Eigen::Index i = offset_[v];
+    if (view.kind == BoardKind::kFloor) {
+      view.floor = FloorPose{p[i], p[i + 1], p[i + 2]};
+    } else if (view.kind == BoardKind::kFree) {
+      view.R_CB = rotation(p.segment<3>(i)) * views_[v].R_CB;
+      view.t_CB = p.segment<3>(i + 3);
+    }
+    return view;
+  }
+
+  double cost_at(const Eigen::VectorXd& p) const {
+    const CalibratedCamera camera = camera_at(p);
+    double cost = 0.0;
+    for (size_t v = 0; v < views_.size(); ++v) {
+      cost += view_residuals(camera, view_at(p, v)).squaredNorm();
+    }
+    return cost;
+  }
+
+  // Adds view v's share of J^T J and J^T r: central differences over the parameters it depends
+  // on, steps relative to each parameter's size.
+  void accumulate_view(const Eigen::VectorXd& p, const CalibratedCamera& camera, size_t v,
+                       Eigen::MatrixXd& JtJ, Eigen::VectorXd& g) const {
+    const JointView& base = views_[v];
+    std::vector<Eigen::Index> depends;
+    for (Eigen::Index k = 0; k < intrinsics_; ++k) depends.push_back(k);
+    if (base.kind != BoardKind::kFree) {
+      for (Eigen::Index k = intrinsics_; k < intrinsics_ + 6; ++k) depends.push_back(k);
+    }
+    const Eigen::Index own = base.kind == BoardKind::kFloor  ? 3
+                             : base.kind == BoardKind::kFree ? 6
+                                                             : 0;
+    for (Eigen::Index k = 0; k < own; ++k) depends.push_back(offset_[v] + k);
+
+    const JointView view = view_at(p, v);
+    const Eigen::VectorXd r = view_residuals(camera, view);
+    Eigen::MatrixXd J(r.size(), static_cast<Eigen::Index>(depends.size()));
+    Eigen::VectorXd q = p;
+    for (size_t c = 0; c < depends.size(); ++c) {
+      const Eigen::Index k = depends[c];
+      const double h = 1e-6 * std::max(1.0, std::abs(p[k]));
+      const bool shared = k < intrinsics_ + 6;
+      q[k] = p[k] + h;
+      const Eigen::VectorXd plus =
+          shared ? view_residuals(camera_at(q), view) : view_residuals(camera, view_at(q, v));
+      q[k] = p[k] - h;
+      const Eigen::VectorXd minus =
+          shared ? view_residuals(camera_at(q), view) : view_residuals(camera, view_at(q, v));
+      q[k] = p[k];
+      J.col(static_cast<Eigen::Index>(c)) = (plus - minus) / (2 * h);
+    }
+    const Eigen::MatrixXd JtJ_v = J.transpose() * J;
+    const Eigen::VectorXd g_v = J.transpose() * r;
+    for (size_t a = 0; a < depends.size(); ++a) {
+      g[depends[a]] += g_v[static_cast<Eigen::Index>(a)];
+      for (size_t b = 0; b < depends.size(); ++b) {
+        JtJ(depends[a], depends[b]) +=
+            JtJ_v(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
       }
     }
   }
@@ -423,10 +490,10 @@ class JointFit {
     for (int j = 0; j < t_->inner_corners_rows; ++j) {
       for (int i = 0; i < t_->inner_corners_cols; ++i) {
         const size_t k = static_cast<size_t>(j * t_->inner_corners_cols + i);
-        const Eigen::Vector3d p = v.kind == BoardKind::kFree
-                                      ? Eigen::Vector3d(i * t_->square_size_m,
-                                                        j * t_->square_size_m, 0.0)
-                                      : floor_corner_W(*t_, v.floor, i, j);
+        const Eigen::Vector3d p =
+            v.kind == BoardKind::kFree
+                ? Eigen::Vector3d(i * t_->square_size_m, j * t_->square_size_m, 0.0)
+                : floor_corner_W(*t_, v.floor, i, j);
         const std::optional<Eigen::Vector2d> uv = through.project(p);
         // A corner behind the camera: a large penalty rather than no residual.
         r.segment<2>(2 * static_cast<Eigen::Index>(k)) =
@@ -437,22 +504,14 @@ class JointFit {
     return r;
   }
 
-  Eigen::VectorXd residuals(const Eigen::VectorXd& p) const {
-    JointFit at = *this;
-    at.unpack(p);
-    const Eigen::Index per_view = 2 * t_->inner_corners_cols * t_->inner_corners_rows;
-    Eigen::VectorXd r(per_view * static_cast<Eigen::Index>(views_.size()));
-    for (size_t v = 0; v < views_.size(); ++v) {
-      r.segment(per_view * static_cast<Eigen::Index>(v), per_view) =
-          view_residuals(at.camera_, at.views_[v]);
-    }
-    return r;
-  }
-
   const CalibrationTarget* t_;
   IntrinsicModel model_;
-  CalibratedCamera camera_;
-  std::vector<JointView> views_;
+  CalibratedCamera camera_;       // also the base of the rotation increments
+  std::vector<JointView> views_;  // also the bases of their rotation increments
+  std::vector<int> lens_indices_;
+  Eigen::Index intrinsics_ = 0;       // intrinsic and lens parameters
+  std::vector<Eigen::Index> offset_;  // of each view's own parameters
+  Eigen::Index size_ = 0;
 };
 
 }  // namespace
@@ -464,16 +523,25 @@ Eigen::Vector3d CalibrationTarget::reference_corner_W(int i, int j) const {
 CalibrationTarget CalibrationTarget::read(const std::string& path) {
   // Open: missing and unparsable files both name the file.
   if (!fs::is_regular_file(path)) {
-    throw InputError(path + ": no calibration target file (board geometry and reference pose, "
-                            "docs/camera_calibration.md)");
+    throw InputError(path +
+                     ": no calibration target file (board geometry and reference pose, "
+                     "docs/camera_calibration.md)");
   }
+  // People write this file by hand: cv::FileStorage wants a %YAML directive first, so one is
+  // supplied when the file has none.
+  std::ifstream file(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (!file) throw InputError(path + ": cannot read the calibration target file");
+  if (text.rfind("%YAML", 0) != 0) text.insert(0, "%YAML:1.0\n---\n");
   cv::FileStorage storage;
   try {
-    if (!storage.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML)) {
+    if (!storage.open(
+            text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML)) {
       throw InputError(path + ": cannot open the calibration target file");
     }
   } catch (const cv::Exception&) {
-    throw InputError(path + ": not a YAML calibration target file (cv::FileStorage cannot parse it)");
+    throw InputError(path +
+                     ": not a YAML calibration target file (cv::FileStorage cannot parse it)");
   }
   const TargetReader in(path, storage);
 
@@ -498,8 +566,8 @@ CalibrationTarget CalibrationTarget::read(const std::string& path) {
   // The reference view: a file name of the folder and the board's measured pose in it.
   t.reference_frame = in.text("reference", "frame");
   if (t.reference_frame.empty() || fs::path(t.reference_frame).filename() != t.reference_frame) {
-    in.fail("reference.frame", "must be the file name of a frame in the folder, got '" +
-                                   t.reference_frame + "'");
+    in.fail("reference.frame",
+            "must be the file name of a frame in the folder, got '" + t.reference_frame + "'");
   }
   t.origin_W = {in.real("reference", "origin_x_m"), in.real("reference", "origin_y_m")};
   t.yaw_rad = deg_to_rad(in.real("reference", "yaw_deg"));
@@ -616,24 +684,33 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
   // the fitted parameters (3 or 4 intrinsics, the lens terms, 6 per view). A term that only fits
   // noise lowers the RSS by ~1/n and costs ln n; a real lens or a real aspect ratio lowers it by
   // far more. Terms fitted to noise bend the model where boards were seen least (the corners
-  // of the image) and a free aspect ratio tilts the floor's scale.
-  const double n_residuals = 2.0 * static_cast<double>(corners.size()) *
-                             target.inner_corners_cols * target.inner_corners_rows;
+  // of the image) and a free aspect ratio tilts the floor's scale. The models are compared on at
+  // most kModelViews views spread over the folder, the reference among them (cv::calibrateCamera
+  // costs ~1 s at 50 views, ~10 s at 100); the joint fit below uses every view.
+  size_t ref = *reference_of();
+  std::vector<std::vector<cv::Point2f>> sample;
+  const size_t n_sample = std::min(candidate.size(), kModelViews);
+  for (size_t s = 0; s < n_sample; ++s) {
+    const size_t k = s * candidate.size() / n_sample;
+    sample.push_back(corners[s + 1 == n_sample && ref > k ? ref : k]);
+  }
+  const double n_residuals = 2.0 * static_cast<double>(sample.size()) * target.inner_corners_cols *
+                             target.inner_corners_rows;
   auto bic = [&](const IntrinsicFit& f, const IntrinsicModel& model) {
     const double rss = f.rms_px * f.rms_px * 0.5 * n_residuals;
     const double p = (model.square_pixels ? 3.0 : 4.0) + lens_terms(model.lens) +
-                     6.0 * static_cast<double>(corners.size());
-    return n_residuals * std::log(std::max(rss, 1e-300) / n_residuals) + p * (std::getenv("AICPEN") ? std::atof(std::getenv("AICPEN")) : std::log(n_residuals));
+                     6.0 * static_cast<double>(sample.size());
+    return n_residuals * std::log(std::max(rss, 1e-300) / n_residuals) + p * std::log(n_residuals);
   };
   IntrinsicModel model{options.max_lens_model, false};
-  IntrinsicFit fit = fit_intrinsics(corners, target, image_size, model, dir);
+  IntrinsicFit fit = fit_intrinsics(sample, target, image_size, model, dir);
   if (options.select_model) {
     double best = bic(fit, model);
     for (int m = 0; m <= static_cast<int>(options.max_lens_model); ++m) {
       for (bool square : {true, false}) {
         const IntrinsicModel simpler{static_cast<LensModel>(m), square};
         if (simpler.lens == options.max_lens_model && !square) continue;  // fitted above
-        IntrinsicFit trial = fit_intrinsics(corners, target, image_size, simpler, dir);
+        IntrinsicFit trial = fit_intrinsics(sample, target, image_size, simpler, dir);
         const double score = bic(trial, simpler);
         if (score < best) {
           best = score;
@@ -646,53 +723,80 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
   result.lens_model = model.lens;
   result.square_pixels = model.square_pixels;
 
-  // Views whose reprojection error stands out are dropped once and the fit repeated.
-  std::vector<double> sorted = fit.view_rms_px;
-  std::sort(sorted.begin(), sorted.end());
-  const double limit = std::max(options.max_view_rms_px, 3.0 * sorted[sorted.size() / 2]);
-  std::vector<std::vector<cv::Point2f>> kept_corners;
-  std::vector<size_t> kept;
-  for (size_t k = 0; k < candidate.size(); ++k) {
-    if (fit.view_rms_px[k] > limit && result.views[candidate[k]].frame != target.reference_frame) {
-      result.views[candidate[k]].reason = "reprojection RMS " + num(fit.view_rms_px[k]) +
-                                          " px, above the limit " + num(limit) + " px";
-    } else {
-      kept_corners.push_back(corners[k]);
-      kept.push_back(candidate[k]);
+  // Every view's board pose with those intrinsics (cv::solvePnP, IPPE for a plane, then refined)
+  // and its reprojection RMS.
+  std::vector<cv::Point3d> board;
+  for (int j = 0; j < target.inner_corners_rows; ++j) {
+    for (int i = 0; i < target.inner_corners_cols; ++i) {
+      board.emplace_back(i * target.square_size_m, j * target.square_size_m, 0.0);
     }
   }
-  if (kept.size() < candidate.size()) {
-    if (static_cast<int>(kept.size()) < kMinViews) {
-      throw InputError(dir + ": only " + std::to_string(kept.size()) +
-                       " views fit a common camera, need at least " + std::to_string(kMinViews));
-    }
-    corners = std::move(kept_corners);
-    candidate = std::move(kept);
-    fit = fit_intrinsics(corners, target, image_size, model, dir);
-  }
+  std::vector<Eigen::Matrix3d> R_CB;
+  std::vector<Eigen::Vector3d> t_CB;
+  std::vector<double> view_rms;
   for (size_t k = 0; k < candidate.size(); ++k) {
-    result.views[candidate[k]].used = true;
-    result.views[candidate[k]].rms_px = fit.view_rms_px[k];
+    cv::Mat rvec, tvec, R;
+    std::vector<cv::Point2d> back;
+    try {
+      cv::solvePnP(board, corners[k], fit.K, fit.distortion, rvec, tvec, false, cv::SOLVEPNP_IPPE);
+      cv::solvePnPRefineLM(board, corners[k], fit.K, fit.distortion, rvec, tvec);
+      cv::projectPoints(board, rvec, tvec, fit.K, fit.distortion, back);
+    } catch (const cv::Exception& e) {
+      throw InputError(dir + "/" + result.views[candidate[k]].frame +
+                       ": cv::solvePnP failed: " + e.err);
+    }
+    double sum2 = 0.0;
+    for (size_t c = 0; c < back.size(); ++c) {
+      const cv::Point2d d = back[c] - cv::Point2d(corners[k][c].x, corners[k][c].y);
+      sum2 += d.dot(d);
+    }
+    view_rms.push_back(std::sqrt(sum2 / static_cast<double>(back.size())));
+    cv::Rodrigues(rvec, R);
+    R_CB.push_back(to_eigen3(R));
+    t_CB.emplace_back(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
   }
 
+  // Views whose reprojection error stands out are dropped (the joint fit below refines the
+  // intrinsics with the rest).
+  std::vector<double> sorted = view_rms;
+  std::sort(sorted.begin(), sorted.end());
+  const double limit = std::max(options.max_view_rms_px, 3.0 * sorted[sorted.size() / 2]);
+  size_t kept = 0;
+  for (size_t k = 0; k < candidate.size(); ++k) {
+    if (view_rms[k] > limit && k != ref) {
+      result.views[candidate[k]].reason =
+          "reprojection RMS " + num(view_rms[k]) + " px, above the limit " + num(limit) + " px";
+      continue;
+    }
+    if (k == ref) ref = kept;
+    if (kept != k) {
+      corners[kept] = std::move(corners[k]);
+      candidate[kept] = candidate[k];
+      R_CB[kept] = R_CB[k];
+      t_CB[kept] = t_CB[k];
+      view_rms[kept] = view_rms[k];
+    }
+    ++kept;
+  }
+  if (static_cast<int>(kept) < kMinViews) {
+    throw InputError(dir + ": only " + std::to_string(kept) +
+                     " views fit a common camera, need at least " + std::to_string(kMinViews));
+  }
+  corners.resize(kept);
+  candidate.resize(kept);
+  R_CB.resize(kept);
+  t_CB.resize(kept);
+  view_rms.resize(kept);
+  for (size_t k : candidate) result.views[k].used = true;
+
   // World pose from the reference view: the board's corners where target.yaml puts them. Start
-  // from the intrinsic fit's board pose carried into the world, then solvePnP on world points.
-  const size_t ref = *reference_of();
+  // from the reference board's pose carried into the world, then solvePnP on world points.
   std::vector<cv::Point3d> world;
   for (int j = 0; j < target.inner_corners_rows; ++j) {
     for (int i = 0; i < target.inner_corners_cols; ++i) {
       const Eigen::Vector3d p = target.reference_corner_W(i, j);
       world.emplace_back(p.x(), p.y(), p.z());
     }
-  }
-  std::vector<Eigen::Matrix3d> R_CB(candidate.size());
-  std::vector<Eigen::Vector3d> t_CB(candidate.size());
-  for (size_t k = 0; k < candidate.size(); ++k) {
-    cv::Mat R;
-    cv::Rodrigues(fit.rvecs[k], R);
-    R_CB[k] = to_eigen3(R);
-    t_CB[k] = Eigen::Vector3d(fit.tvecs[k].at<double>(0), fit.tvecs[k].at<double>(1),
-                              fit.tvecs[k].at<double>(2));
   }
   const Eigen::Matrix3d R_WB =
       Eigen::AngleAxisd(target.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -766,7 +870,7 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
   bool moved = false;
   for (size_t k = 0; k < candidate.size(); ++k) {
     if (joint[k].kind == BoardKind::kFloor &&
-        joint_fit.view_rms_px(k) > std::max(3.0 * fit.view_rms_px[k], fit.view_rms_px[k] + 0.1)) {
+        joint_fit.view_rms_px(k) > std::max(3.0 * view_rms[k], view_rms[k] + 0.1)) {
       joint[k].kind = BoardKind::kFree;
       moved = true;
     }
@@ -796,8 +900,10 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
         const std::optional<Eigen::Vector3d> back =
             final_camera.point_at_height({s.x, s.y}, target.thickness_m);
         if (!uv || !back) {
-          throw InputError(dir + ": the calibrated camera does not see the boards on the floor; "
-                                 "check " + (fs::path(dir) / kTargetFile).string());
+          throw InputError(dir +
+                           ": the calibrated camera does not see the boards on the floor; "
+                           "check " +
+                           (fs::path(dir) / kTargetFile).string());
         }
         if (v.kind == BoardKind::kReference) {
           pose_sum2 += (*uv - Eigen::Vector2d(s.x, s.y)).squaredNorm();

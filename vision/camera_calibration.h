@@ -4,16 +4,17 @@
 // ground truth is never read here):
 //  1. corners: cv::findChessboardCorners + cv::cornerSubPix on every frame of the folder, in the
 //     board's own order (origin corner first, see below);
-//  2. intrinsics: cv::calibrateCamera over every view with a board, with the simplest model the
-//     corners support (lens: pinhole, then OpenCV's k1, k2, p1, p2[, k3]; square pixels or
-//     not; chosen by the Bayesian information criterion); a view whose own
-//     reprojection error stands out is rejected and the fit run again;
+//  2. intrinsics: cv::calibrateCamera with the simplest model the corners support (lens:
+//     pinhole, then OpenCV's k1, k2, p1, p2[, k3]; square pixels or not; least Bayesian
+//     information criterion, compared on at most 16 views), then every view's board pose by
+//     cv::solvePnP; a view whose reprojection error stands out is rejected;
 //  3. world pose: cv::solvePnP on the reference frame, in which the board lies flat on the floor
-//     where target.yaml says (origin corner x, y and yaw, as measured on the rig); then refined
-//     on every other view whose board lies flat on the floor too (its plane is the reference
-//     board's), their places on the floor fitted along: one board shows the floor's tilt only
-//     over its own patch of the image, boards all over the floor show it everywhere;
-//  4. quality: RMS reprojection errors, and the corners of the boards on the floor mapped back
+//     where target.yaml says (origin corner x, y and yaw, as measured on the rig);
+//  4. joint fit (bundle adjustment) of the intrinsics, the world pose and every board's pose to
+//     every corner, the boards found lying flat on the floor (their plane is the reference
+//     board's) constrained to it: one board shows the floor's tilt only over its own patch of
+//     the image, boards all over the floor show it everywhere;
+//  5. quality: RMS reprojection errors, and the corners of the boards on the floor mapped back
 //     onto the board's plane against where they are (the floor error).
 //
 // The board's origin: OpenCV finds a checkerboard's corners up to the board's symmetries. The
@@ -35,7 +36,7 @@ struct CalibrationTarget {
   int inner_corners_cols = 0;  ///< inner corners along the board's x axis (its long side)
   int inner_corners_rows = 0;  ///< along its y axis
   double square_size_m = 0.0;
-  double thickness_m = 0.0;  ///< printed surface above the floor when the board lies on it (m)
+  double thickness_m = 0.0;     ///< printed surface above the floor when the board lies on it (m)
   std::string reference_frame;  ///< file name (in the folder) of the view of the board on the floor
   /// The reference view's board pose: origin corner on the floor (m, world) and the angle of the
   /// board's x axis from the world's x axis, counter-clockwise seen from above (rad).
@@ -45,9 +46,10 @@ struct CalibrationTarget {
   /// World position (m) of inner corner (i, j) of the board in the reference view.
   Eigen::Vector3d reference_corner_W(int i, int j) const;
 
-  /// Reads a target.yaml. Throws InputError naming the file and the key: missing, not a number,
-  /// out of range (corners >= 3 and cols + rows odd, square size > 0, thickness >= 0, finite
-  /// pose, a plain file name for the frame).
+  /// Reads a target.yaml (YAML as cv::FileStorage reads it; the %YAML:1.0 directive it wants is
+  /// supplied when the file has none). Throws InputError naming the file and the key: missing,
+  /// not a number, out of range (corners >= 3 and cols + rows odd, square size > 0, thickness
+  /// >= 0, finite pose, a plain file name for the frame).
   static CalibrationTarget read(const std::string& path);
 };
 
@@ -76,21 +78,22 @@ struct CameraCalibrationOptions {
 
 /// What happened to one frame of the folder.
 struct CalibrationViewReport {
-  std::string frame;   ///< file name in the folder
-  bool used = false;   ///< in the final fit
-  bool on_floor = false;  ///< the board lies flat on the floor (used for the world pose)
-  std::string reason;  ///< why not, when not used
-  double rms_px = 0.0;  ///< its reprojection RMS in the final fit (used views)
+  std::string frame;      ///< file name in the folder
+  bool used = false;      ///< in the final fit
+  bool on_floor = false;  ///< its board lies flat on the floor (it pins the world pose)
+  std::string reason;     ///< why not, when not used
+  double rms_px = 0.0;    ///< its reprojection RMS in the final fit (used views)
 };
 
 struct CameraCalibrationResult {
   CalibratedCamera camera;
   LensModel lens_model = LensModel::kPinhole;  ///< the lens model fitted
   bool square_pixels = false;                  ///< whether fx = fy was imposed
-  std::vector<CalibrationViewReport> views;  ///< every image file of the folder, by name
-  /// RMS distance (m) between the reference frame's detected corners mapped onto the board's
-  /// plane (z = thickness) by `camera` and the corners where target.yaml puts them: the floor
-  /// error of the calibration, at the board's place.
+  std::vector<CalibrationViewReport> views;    ///< every image file of the folder, by name
+  /// RMS distance (m) between the detected corners of the boards on the floor mapped onto the
+  /// board's plane (z = thickness) by `camera` and the corners where the fit puts those boards
+  /// (the reference where target.yaml does): the floor error of the calibration where the boards
+  /// lay.
   double floor_rms_m = 0.0;
   /// Size of one pixel on the floor at the image centre (m/px).
   double floor_m_per_px = 0.0;

@@ -54,6 +54,9 @@ class FrameSource {
   /// The path as opened, and "folder" or "video".
   const std::string& path() const;
   const char* kind() const;
+  /// The times file in use ("" when times come from the fps), and the fps.
+  const std::string& times_path() const;
+  double fps() const;
 
  private:
   struct Impl;

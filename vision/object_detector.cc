@@ -133,9 +133,6 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
     return {{ObjectKind::kCotton, blob.centroid_px}};
   }
 
-#ifdef DEBUG_SEEDS
-  fprintf(stderr, "blob at %.1f %.1f area %.0f depth %.2f elong %.2f circ %.2f\n", blob.centroid_px.x(), blob.centroid_px.y(), blob.area_px, depth, blob.elongation, blob.circularity);
-#endif
   // Touching objects. Tracers first, from the Hough transform on the blob's neighbourhood: a
   // circle centred on the blob, not in a wad's core, whose bright disc is about a tracer's.
   std::vector<Seed> seeds;
@@ -157,9 +154,6 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
       bool taken = false;
       for (const Seed& s : seeds) taken = taken || (s.centre_px - uv).norm() < 1.5 * r_t;
       if (!taken) seeds.push_back({ObjectKind::kTracer, uv});
-#ifdef DEBUG_SEEDS
-      fprintf(stderr, "  circle at %.1f %.1f r %.1f bright %d depth %.2f taken %d (At %.0f)\n", uv.x(), uv.y(), c.radius_px, c.bright_pixels, d, taken, tracer_area);
-#endif
     }
   }
   auto take_disc = [&](const Eigen::Vector2d& uv, double radius) {
@@ -168,17 +162,22 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
                static_cast<int>(std::ceil(radius)), cv::Scalar(0), cv::FILLED);
   };
   for (const Seed& s : seeds) take_disc(s.centre_px, r_t + 1.0);
-
-  // Then peel what is left by its distance transform: its deepest point is an object's core, a
-  // wad's if the whole blob is deep around it (the piece left of a wad may be thinner than the
-  // wad: a neighbour's disc took its edge), else a tracer's; the object's disc is taken away and the
-  // next core looked for, until only edges are left.
-  const int max_seeds = static_cast<int>(std::ceil(blob.area_px / tracer_area)) + 2;
-  while (static_cast<int>(seeds.size()) < max_seeds) {
+  // The deepest point of what is left (ROI pixels) and its depth.
+  auto deepest_left = [&]() {
     cv::distanceTransform(remaining_, distance_, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     double peak = 0;
     cv::Point at;
     cv::minMaxLoc(distance_, nullptr, &peak, nullptr, &at);
+    return std::pair<double, cv::Point>(peak, at);
+  };
+
+  // Then peel what is left by its distance transform: its deepest point is an object's core, a
+  // wad's if the whole blob is deep around it (the piece left of a wad may be thinner than the
+  // wad: a neighbour's disc took its edge), else a tracer's; the object's disc is taken away and
+  // the next core looked for, until only edges are left.
+  const int max_seeds = static_cast<int>(std::ceil(blob.area_px / tracer_area)) + 2;
+  while (static_cast<int>(seeds.size()) < max_seeds) {
+    const auto [peak, at] = deepest_left();
     if (peak < tracer_depth) break;
     const Eigen::Vector2d uv(at.x + box.x, at.y + box.y);
     if (depth_near(at, r_t) >= cotton_depth) {
@@ -188,6 +187,19 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
       seeds.push_back({ObjectKind::kTracer, uv});
       take_disc(uv, r_t + 1.0);
     }
+  }
+  // A blob of tracers alone holds as many as its area says (a tracer's area each; 0.7 of one
+  // more counts as one): overlapping discs can leave a tracer too thin a piece to be peeled.
+  // The missing ones go to the deepest points left, if any is more than a sliver.
+  bool tracers_only = true;
+  for (const Seed& s : seeds) tracers_only = tracers_only && s.kind == ObjectKind::kTracer;
+  const int by_area = static_cast<int>(std::floor(blob.area_px / tracer_area + 0.3));
+  while (tracers_only && !seeds.empty() && static_cast<int>(seeds.size()) < by_area) {
+    const auto [peak, at] = deepest_left();
+    if (peak < 0.4 * r_t) break;  // only slivers left
+    const Eigen::Vector2d uv(at.x + box.x, at.y + box.y);
+    seeds.push_back({ObjectKind::kTracer, uv});
+    take_disc(uv, r_t + 1.0);
   }
   return seeds;
 }
@@ -251,7 +263,7 @@ const std::vector<Detection>& ObjectDetector::detect(const cv::Mat& frame) {
   std::vector<double> areas;
   for (size_t i = 0; i < blobs_.size(); ++i) {
     const Blob& blob = blobs_[i];
-    // Partly under the rig: neither its size nor its centre can be trusted.
+    // The rig, or an object whose image merges with the rig's: neither size nor centre holds.
     if (blob.touches_mask) {
       ++stats_.masked_blobs;
       continue;

@@ -4,8 +4,8 @@
 //
 // The pipeline (docs/vision.md):
 //  1. Blobs (vision/blob_detector.h): everything clearly brighter than the floor, except the
-//     nozzle rig, which hangs above the floor's origin and is masked out (a blob reaching into the
-//     mask is an object partly hidden under the rig: dropped).
+//     nozzle rig, which hangs above the floor's origin: a blob reaching into a small disc around
+//     its foot is the rig, or an object merged with the rig's image, and is dropped.
 //  2. Objects in each blob, as seeds:
 //     - tracers from the circular Hough transform (vision/circle_detector.h) run on the blob's
 //       neighbourhood: a circle whose bright disc holds no more than ~a tracer's area is a tracer
@@ -13,6 +13,9 @@
 //     - what the tracers leave is peeled by its distance transform: a point deeper than a tracer's
 //       radius can be is a wad's core (cotton), a point as deep as a tracer's core is a tracer the
 //       transform missed; each seed takes its object's disc away and the next peak is examined;
+//     - a blob of tracers alone holds as many as its area says (overlapping discs, as blur makes
+//       touching tracers, can leave one too thin a piece to peel): missing ones go to the
+//       deepest points left;
 //     - a blob of one seed is that object, centred on the blob's centroid (image moments);
 //       touching objects (a blob of several seeds) are split by a few Lloyd iterations that give
 //       each blob pixel to the nearest seed (distances scaled by the object's radius) and move the
@@ -53,9 +56,13 @@ struct ObjectDetectorOptions {
   /// Heights (m above the floor) of the points whose projections are the measured centres.
   double tracer_height_m = 0.005;
   double cotton_height_m = 0.016;
-  /// Floor disc (world frame, m) hidden by the nozzle rig hanging above it; radius 0 = no mask.
+  /// Floor disc (world frame, m) under the nozzle rig, which the camera sees end-on as bright
+  /// parts within ~7 cm of its foot (the rod's end, the servo bracket). A blob reaching into the
+  /// disc is the rig or merged with it, and is dropped; so the disc must meet every rig part
+  /// (5 cm: ~19 px, the bracket's plates start ~12 px out) and needs to be no bigger, so that
+  /// objects beside the rig stay visible. Radius 0 = no mask.
   Eigen::Vector2d rig_centre_W = Eigen::Vector2d::Zero();
-  double rig_mask_radius_m = 0.09;
+  double rig_mask_radius_m = 0.05;
   /// Use the Hough transform to find tracers in blobs bigger than a single tracer.
   bool use_hough = true;
 

@@ -1,5 +1,6 @@
 #include "vision/tracker.h"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +16,9 @@ void TrackerOptions::validate() const {
   }
   if (max_missed_frames < 0) throw InputError("tracker: max_missed_frames must be >= 0");
   if (velocity_window < 2) throw InputError("tracker: velocity_window must be >= 2");
+  if (velocity_degree < 1 || velocity_degree > 2) {
+    throw InputError("tracker: velocity_degree must be 1 or 2");
+  }
   if (!(std::isfinite(kind_mismatch_m) && kind_mismatch_m >= 0)) {
     throw InputError("tracker: kind_mismatch_m must be finite and >= 0");
   }
@@ -109,22 +113,21 @@ void Tracker::record(Track& track, History& history, const Detection& d, double 
     history.p.pop_front();
     history.uv.pop_front();
   }
-  // Velocities: least-squares slopes of position (and pixel) against time over the window.
-  const size_t n = history.t.size();
-  if (n >= 2) {
-    double t_mean = 0;
-    for (double t : history.t) t_mean += t;
-    t_mean /= static_cast<double>(n);
-    double stt = 0;
-    Eigen::Vector2d stp = Eigen::Vector2d::Zero(), stuv = Eigen::Vector2d::Zero();
-    for (size_t k = 0; k < n; ++k) {
-      const double dt = history.t[k] - t_mean;
-      stt += dt * dt;
-      stp += dt * history.p[k];  // sum of dt is 0: no need to centre the positions
-      stuv += dt * history.uv[k];
+  // Velocities: the derivative at the last frame of a least-squares polynomial in time (a line,
+  // or a parabola when asked and the window has 3 points) through the window's positions and
+  // pixels, time taken from the last frame so the derivative is the linear coefficient.
+  const int n = static_cast<int>(history.t.size());
+  const int degree = std::min(options_.velocity_degree, n - 1);
+  if (degree >= 1) {
+    Eigen::MatrixXd A(n, degree + 1), b(n, 4);
+    for (int k = 0; k < n; ++k) {
+      const double tau = history.t[k] - t_s;
+      for (int c = 0; c <= degree; ++c) A(k, c) = std::pow(tau, c);
+      b.row(k) << history.p[k].x(), history.p[k].y(), history.uv[k].x(), history.uv[k].y();
     }
-    track.v_W = stp / stt;
-    track.v_px = stuv / stt;
+    const Eigen::MatrixXd x = A.colPivHouseholderQr().solve(b);
+    track.v_W = x.block<1, 2>(1, 0).transpose();
+    track.v_px = x.block<1, 2>(1, 2).transpose();
   }
   track.p_W = d.p_W;
   track.centre_px = d.centre_px;
@@ -151,62 +154,85 @@ const std::vector<Track>& Tracker::update(double t_s, const std::vector<Detectio
   counters_.detections += static_cast<int64_t>(detections.size());
   ended_.clear();
 
-  // The augmented cost matrix: tracks x detections within the gate, plus a dummy column per
-  // track (left unassigned: its gate minus half a jump) and a dummy row per detection (a new
-  // track: half a jump), so a pair is assigned only when its cost is below the track's gate.
+  // The augmented cost matrix: tracks x detections within each track's gate (the distance to
+  // its prediction, plus the kind mismatch), plus a dummy column per track and a dummy row per
+  // detection (left unassigned), each costing more than any allowed pair: every detection that
+  // can join a track does, and among such assignments the total distance is least. A track that
+  // coasts is no hungrier than one seen in the last frame (its gate is wider, its costs are not
+  // lower), so a detection goes to the track that predicted it best.
   const int n_tracks = static_cast<int>(tracks_.size());
   const int n_detections = static_cast<int>(detections.size());
   const int size = n_tracks + n_detections;
-  constexpr double kForbidden = 1e9;
-  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(size, size, kForbidden);
-  const double half_jump = 0.5 * options_.max_jump_m;
+  const double widest_gate = options_.max_jump_m * (options_.max_missed_frames + 1);
+  const double unassigned = widest_gate + options_.kind_mismatch_m;
+  const double forbidden = 1e6 * (unassigned + 1.0);
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(size, size, forbidden);
+  std::vector<Eigen::Vector2d> predicted(n_tracks);
   for (int i = 0; i < n_tracks; ++i) {
     const Track& track = tracks_[i];
     const double gate = options_.max_jump_m * (track.missed_frames + 1);
-    const Eigen::Vector2d predicted = track.predict(t_s);
+    predicted[i] = track.predict(t_s);
     for (int j = 0; j < n_detections; ++j) {
-      const double distance = (detections[j].p_W - predicted).norm();
-      const double c =
-          distance + (detections[j].kind == track.kind ? 0.0 : options_.kind_mismatch_m);
-      if (c < gate) cost(i, j) = c;
+      const double distance = (detections[j].p_W - predicted[i]).norm();
+      if (distance > gate) continue;
+      cost(i, j) = distance + (detections[j].kind == track.kind ? 0.0 : options_.kind_mismatch_m);
     }
-    cost(i, n_detections + i) = gate - half_jump;
+    cost(i, n_detections + i) = unassigned;
   }
   for (int j = 0; j < n_detections; ++j) {
-    cost(n_tracks + j, j) = half_jump;
+    cost(n_tracks + j, j) = unassigned;
     for (int i = 0; i < n_tracks; ++i) cost(n_tracks + j, n_detections + i) = 0.0;
   }
   const std::vector<int> column_of = size > 0 ? solve_assignment(cost) : std::vector<int>{};
-
-  // Assigned pairs update their tracks.
   detection_ids_.assign(detections.size(), 0);
-  std::vector<char> matched(tracks_.size(), 0);
+  std::vector<int> detection_of(n_tracks, -1);
   for (int i = 0; i < n_tracks; ++i) {
     const int j = column_of[i];
-    if (j < 0 || j >= n_detections || cost(i, j) >= kForbidden) continue;
-    record(tracks_[i], histories_[i], detections[j], t_s, j);
-    detection_ids_[j] = tracks_[i].id;
-    matched[i] = 1;
+    if (j >= 0 && j < n_detections && cost(i, j) < forbidden) {
+      detection_of[i] = j;
+      detection_ids_[j] = tracks_[i].id;
+    }
   }
 
-  // The other tracks coast: merged when beside another track's detection, ended at the image's
-  // edge or after too many misses.
+  // Merges: a track without a detection whose prediction lies by another track's detection is
+  // hidden in that detection's blob. The blob's centre is neither object's: both tracks go on
+  // with their predictions and velocities (the other keeps the detection and its id).
+  std::vector<char> merged(n_tracks, 0);
+  for (int i = 0; i < n_tracks; ++i) {
+    if (detection_of[i] >= 0) continue;
+    for (int k = 0; k < n_tracks; ++k) {
+      const int j = detection_of[k];
+      if (j >= 0 && (detections[j].p_W - predicted[i]).norm() <= options_.merge_radius_m) {
+        merged[i] = merged[k] = 1;
+      }
+    }
+  }
+
+  // Tracks with a detection take it in (a merge's keeper only its time and pixel); the others
+  // coast, and end at the image's edge or after too many misses.
   std::vector<char> keep(tracks_.size(), 1);
   for (int i = 0; i < n_tracks; ++i) {
-    if (matched[i]) continue;
     Track& track = tracks_[i];
+    const int j = detection_of[i];
+    if (j >= 0 && !merged[i]) {
+      record(track, histories_[i], detections[j], t_s, j);
+      continue;
+    }
+    if (j >= 0) {
+      track.p_W = predicted[i];
+      track.centre_px = detections[j].centre_px;
+      track.t_last_s = t_s;
+      ++track.hits;
+      track.missed_frames = 0;
+      track.detection = j;
+      continue;
+    }
     track.detection = -1;
     ++track.missed_frames;
     ++counters_.missed;
-    const Eigen::Vector2d predicted = track.predict(t_s);
-    bool merged = false;
-    for (int j = 0; j < n_detections && !merged; ++j) {
-      merged = detection_ids_[j] != 0 &&
-               (detections[j].p_W - predicted).norm() <= options_.merge_radius_m;
-    }
-    if (merged) ++counters_.merged;
+    if (merged[i]) ++counters_.merged;
     const Eigen::Vector2d predicted_px = track.centre_px + track.v_px * (t_s - track.t_last_s);
-    if (!merged && near_edge(predicted_px)) {
+    if (!merged[i] && near_edge(predicted_px)) {
       ++counters_.left_view;
       keep[i] = 0;
     } else if (track.missed_frames > options_.max_missed_frames) {

@@ -7,16 +7,24 @@
 // and is ended after that as lost; a track missed near the image's edge is ended at once as gone
 // out of view.
 //
-// Per track: the velocity (m/s) is the slope of a least-squares line through its last detections
-// (up to `velocity_window` of them), the input the controller needs; its kind is the majority of
+// Per track: the velocity (m/s) is the derivative at the last detection of a least-squares
+// parabola (or line) in time through its last detections (up to `velocity_window` of them), the
+// input the controller needs; its kind is the majority of
 // its detections' kinds (ties: the first seen). World frame and SI units throughout: positions in
 // m, times in s.
 //
 // Gating: a detection may join a track only within max_jump_m of its predicted position for each
 // frame since the track was last seen (an object cannot travel farther per camera period); two
-// different kinds cost `kind_mismatch_m` more. The assignment minimises the sum of distances, with
-// leaving a track or a detection unassigned costing half the gate each, so a pair within the gate
-// is always preferred to leaving both alone. Deterministic: same inputs, same ids.
+// different kinds cost `kind_mismatch_m` more. Leaving a track or a detection unassigned costs
+// more than any pair within a gate, so the assignment pairs all it can and, among those pairings,
+// minimises the sum of distances: a detection goes to the track that predicted it best, whether
+// that track was seen in the last frame or has been coasting.
+//
+// Merges: when a track gets no detection while its prediction lies within merge_radius_m of a
+// detection another track took, the two objects are taken to be one blob (touching objects the
+// detector could not split). The blob's centre is neither object's, so both tracks go on with
+// their predictions and velocities unchanged until the objects are seen apart again; the
+// detection keeps the other track's id. Deterministic: same inputs, same ids.
 
 #include <Eigen/Core>
 #include <array>
@@ -35,6 +43,10 @@ struct TrackerOptions {
   int max_missed_frames = 8;
   /// Detections in the velocity fit (>= 2).
   int velocity_window = 5;
+  /// Degree of the polynomial fitted to them: 2 (a parabola: the velocity at the last frame,
+  /// right under acceleration) or 1 (a line: the mean velocity over the window, less noisy, but
+  /// half a window late when the object accelerates).
+  int velocity_degree = 2;
   /// Extra cost of giving a detection of the other kind to a track (m).
   double kind_mismatch_m = 0.02;
   /// A track missed while its predicted pixel is within this of the image's edge has left the
@@ -53,7 +65,9 @@ struct TrackerOptions {
 struct Track {
   int id = 0;                                        ///< 1, 2, ... in order of creation
   ObjectKind kind = ObjectKind::kTracer;             ///< majority of its detections
-  Eigen::Vector2d p_W = Eigen::Vector2d::Zero();     ///< last detected position (m)
+  /// Position (m): the last detection's; in a merge (another track holds the detection of the
+  /// blob it is hidden in), the prediction.
+  Eigen::Vector2d p_W = Eigen::Vector2d::Zero();
   Eigen::Vector2d v_W = Eigen::Vector2d::Zero();     ///< velocity estimate (m/s)
   Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();  ///< last detected pixel centre
   Eigen::Vector2d v_px = Eigen::Vector2d::Zero();       ///< pixel velocity (px/s), same fit

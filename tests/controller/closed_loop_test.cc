@@ -23,6 +23,7 @@ class ModelRig final : public Rig {
     o.t_s = t_;
     for (size_t j = 0; j < objects_.size(); ++j) {
       if (hide_every_ > 0 && j == 0 && observations_ % hide_every_ == 0) continue;
+      if (hide_from_ > 0 && j == 0 && observations_ >= hide_from_) continue;
       o.objects.push_back(objects_[j]);
     }
     return o;
@@ -52,6 +53,7 @@ class ModelRig final : public Rig {
 
   int aims_ = 0;
   int hide_every_ = 0;
+  int hide_from_ = 0;  // object 0 unseen from this observation (1-based) on
 
  private:
   const AirFieldModel& model_;
@@ -111,6 +113,26 @@ TEST(ClosedLoop, StopsAtTheTimeLimitAndRemembersUnseenObjects) {
   ASSERT_FALSE(result.decisions.empty());
   for (const auto& d : result.decisions) EXPECT_EQ(d.n_known, 2);
   EXPECT_EQ(result.decisions[1].n_observed, 1);
+}
+
+TEST(ClosedLoop, ObjectsUnseenTooLongAreForgotten) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}},
+                       ObservedObject{"b", "tracer", {-0.5, 0.1}, {0, 0}}});
+  rig.hide_from_ = 2;  // "a" is seen at t = 0 only
+  TaskSpec agg;
+  agg.kind = TaskKind::kAggregation;
+  agg.zone = Zone{{0.0, 0.0}, 0.01};
+  agg.time_limit_s = 8.0;
+  Controller controller(model, CemParameters::line_defaults(), agg, {{"tracer", kTracerDynamics}},
+                        2, /*forget_after_s=*/3.0);
+  const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.8, 8.0});
+  // Observations at 0, 1.8, 3.6, 5.4, 7.2 s: "a" is remembered until 3 s have passed.
+  ASSERT_GE(result.decisions.size(), 4u);
+  EXPECT_EQ(result.decisions[0].n_known, 2);
+  EXPECT_EQ(result.decisions[1].n_known, 2);
+  EXPECT_EQ(result.decisions[2].n_known, 1);
+  EXPECT_EQ(controller.known().count("a"), 0u);
 }
 
 TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -35,7 +37,7 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-[[maybe_unused]] std::string file_bytes(const fs::path& path) {
+std::string file_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -81,8 +83,9 @@ TEST(CalibrationTarget, ReferenceCornersAreWhereTheTrueCameraProjectsTheBoard) {
   cv::Mat grey;
   cv::cvtColor(read_png((dir / t.frame).string()), grey, cv::COLOR_BGR2GRAY);
   std::vector<cv::Point2f> found;
-  ASSERT_TRUE(cv::findChessboardCorners(grey, cv::Size(t.cols, t.rows), found,
-                                        cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE));
+  ASSERT_TRUE(
+      cv::findChessboardCorners(grey, cv::Size(t.cols, t.rows), found,
+                                cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE));
   cv::cornerSubPix(grey, found, cv::Size(7, 7), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
 
@@ -109,6 +112,83 @@ TEST(CalibrationTarget, ReferenceCornersAreWhereTheTrueCameraProjectsTheBoard) {
   RecordProperty("rms_px", std::to_string(rms));
   std::printf("reference corners vs truth: rms %.4f px, worst %.4f px\n", rms, worst);
   EXPECT_LT(worst, 0.25);
+}
+
+TEST(CalibrationTarget, EveryViewShowsAWholeBoardAndHalfOfThemLieFlat) {
+  const fs::path dir = fresh_dir("views");
+  CalibrationDatasetOptions options;
+  options.seed = 11;
+  ASSERT_EQ(write_calibration_dataset(dir.string(), SceneParameters{}, options), 8);
+  int flat = 0;
+  for (int k = 0; k < 8; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "view_%02d.png", k);
+    cv::Mat grey;
+    cv::cvtColor(read_png((dir / name).string()), grey, cv::COLOR_BGR2GRAY);
+    std::vector<cv::Point2f> found;
+    ASSERT_TRUE(cv::findChessboardCorners(
+        grey, cv::Size(10, 7), found, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
+        << name;
+    // A flat board's squares all look alike (a camera straight above); a propped one's shrink
+    // across the board. Compare the corner spacing along the first and last rows and columns.
+    auto spacing = [&](int a, int b) { return cv::norm(found[a] - found[b]); };
+    const double rows = spacing(0, 9) / spacing(60, 69);
+    const double cols = spacing(0, 60) / spacing(9, 69);
+    if (std::abs(rows - 1.0) < 0.01 && std::abs(cols - 1.0) < 0.01) ++flat;
+  }
+  EXPECT_EQ(flat, 4);
+}
+
+TEST(CalibrationTarget, SameSeedSameBytesOtherSeedOtherPoses) {
+  CalibrationDatasetOptions options;
+  options.views = 3;
+  options.seed = 21;
+  options.noise_sigma_grey = 3.0;
+  options.blur_sigma_px = 0.7;
+  const fs::path a = fresh_dir("a"), b = fresh_dir("b"), c = fresh_dir("c");
+  write_calibration_dataset(a.string(), SceneParameters{}, options);
+  write_calibration_dataset(b.string(), SceneParameters{}, options);
+  options.seed = 22;
+  write_calibration_dataset(c.string(), SceneParameters{}, options);
+  for (const std::string name : {"target.yaml", "view_00.png", "view_01.png", "view_02.png"}) {
+    const std::string bytes = file_bytes(a / name);
+    EXPECT_FALSE(bytes.empty()) << name;
+    EXPECT_EQ(bytes, file_bytes(b / name)) << name;
+    EXPECT_NE(bytes, file_bytes(c / name)) << name;
+  }
+}
+
+TEST(CalibrationTarget, RefusesBadOptionsBeforeWritingAnything) {
+  const fs::path dir = fresh_dir("refused");
+  auto message = [&](const CalibrationDatasetOptions& o) -> std::string {
+    try {
+      write_calibration_dataset(dir.string(), SceneParameters{}, o);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CalibrationDatasetOptions o;
+  o.views = 2;
+  EXPECT_NE(message(o).find("views must be in [3, 100], got 2"), std::string::npos);
+  o = {};
+  o.noise_sigma_grey = -1;
+  EXPECT_NE(message(o).find("noise_sigma_grey must be finite and >= 0"), std::string::npos);
+  o = {};
+  o.blur_sigma_px = std::nan("");
+  EXPECT_NE(message(o).find("blur_sigma_px must be finite and >= 0"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir));
+  // A camera that sees too little floor for the board.
+  SceneParameters narrow;
+  narrow.camera_half_view_m = 0.4;
+  o = {};
+  try {
+    write_calibration_dataset(dir.string(), narrow, o);
+    ADD_FAILURE() << "a 0.8 m view cannot hold the board";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot place the board"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir));
 }
 
 }  // namespace

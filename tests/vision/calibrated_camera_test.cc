@@ -29,11 +29,10 @@ CalibratedCamera rig_like_camera() {
   // Looking down: camera z = -world z, camera x = world x, camera y = -world y; then a small tilt.
   Eigen::Matrix3d down;
   down << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  const Eigen::Matrix3d tilt =
-      (Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()) *
-       Eigen::AngleAxisd(-0.015, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()))
-          .toRotationMatrix();
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(-0.015, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
   c.R_CW = tilt * down;
   const Eigen::Vector3d centre_W(0.01, -0.02, 3.2);
   c.t_C = -c.R_CW * centre_W;
@@ -171,8 +170,7 @@ TEST(CalibratedCamera, ReadRejectsMalformedValues) {
       {"width_px", "width_px: -4\n", "width_px must be > 0"},
       {"width_px", "width_px: wide\n", "width_px must be an integer"},
       {"rms_reprojection_px", "rms_reprojection_px: .nan\n", "rms_reprojection_px must be finite"},
-      {"K",
-       "K: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n   data: [ 1., 0., 0., 1. ]\n",
+      {"K", "K: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n   data: [ 1., 0., 0., 1. ]\n",
        "K must be a 3 x 3 matrix"},
       {"R_CW",
        "R_CW: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 2., "

@@ -1,0 +1,106 @@
+#include "rigs/vision_perception.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "common/errors.h"
+#include "renders/calibration_target.h"
+#include "renders/frame_renderer.h"
+#include "vision/camera_calibration.h"
+#include "vision/object_detector.h"
+
+namespace airtwin {
+
+struct VisionPerception::Impl {
+  VisionPerceptionOptions options;
+  ObjectDetector detector;
+  Tracker tracker;
+  std::unique_ptr<FrameRenderer> renderer;
+  cv::Mat frame;
+  int stride = 4;
+  int64_t processed = 0;
+  double total_ms = 0.0;
+  double last_t_s = -1.0;
+
+  static TrackerOptions tracker_options(const CalibratedCamera& camera,
+                                        const VisionPerceptionOptions& o) {
+    TrackerOptions t;
+    t.max_jump_m = o.max_speed_mps / o.rate_hz;
+    t.merge_radius_m = std::max(t.merge_radius_m, 0.045);
+    t.image_width_px = camera.width_px;
+    t.image_height_px = camera.height_px;
+    // Coast ~1 s through merges and misses.
+    t.max_missed_frames = std::max(2, static_cast<int>(std::lround(o.rate_hz)));
+    return t;
+  }
+
+  Impl(const CalibratedCamera& camera, const VisionPerceptionOptions& o)
+      : options(o), detector(camera), tracker(tracker_options(camera, o)) {
+    const double k = 40.0 / o.rate_hz;
+    if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0.0 && std::fabs(k - std::round(k)) < 1e-9)) {
+      throw InputError("vision: the detection rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
+    }
+    stride = static_cast<int>(std::lround(k));
+  }
+};
+
+VisionPerception::VisionPerception(const CalibratedCamera& camera,
+                                   const VisionPerceptionOptions& options)
+    : impl_(std::make_unique<Impl>(camera, options)) {}
+
+VisionPerception::~VisionPerception() = default;
+
+void VisionPerception::on_frame(const Twin& twin, int64_t frame_index) {
+  Impl& m = *impl_;
+  if (frame_index % m.stride != 0) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (!m.renderer) {
+    RenderOptions ro;
+    ro.noise_sigma_grey = m.options.noise_sigma_grey;
+    ro.blur_sigma_px = m.options.blur_sigma_px;
+    ro.seed = m.options.seed;
+    m.renderer = std::make_unique<FrameRenderer>(twin.model(), ro);
+  }
+  m.renderer->render_into(twin.data(), frame_index, m.frame);
+  const std::vector<Detection>& detections = m.detector.detect(m.frame);
+  m.tracker.update(twin.time(), detections);
+  m.last_t_s = twin.time();
+  ++m.processed;
+  m.total_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Observation VisionPerception::observe(const Twin& twin) {
+  Impl& m = *impl_;
+  Observation o;
+  o.t_s = twin.time();
+  for (const Track& t : m.tracker.tracks()) {
+    if (m.last_t_s - t.t_last_s > m.options.report_missing_s) continue;
+    ObservedObject obj;
+    obj.id = "v" + std::to_string(t.id);
+    obj.type = object_kind_name(t.kind);
+    obj.p_W = t.predict(m.last_t_s);
+    obj.v_W = t.v_W;
+    o.objects.push_back(std::move(obj));
+  }
+  return o;
+}
+
+const TrackerCounters& VisionPerception::counters() const { return impl_->tracker.counters(); }
+int64_t VisionPerception::frames_processed() const { return impl_->processed; }
+double VisionPerception::mean_frame_ms() const {
+  return impl_->processed > 0 ? impl_->total_ms / static_cast<double>(impl_->processed) : 0.0;
+}
+
+CalibratedCamera calibrate_twin_camera(const std::string& dir, const SceneParameters& params,
+                                       uint64_t seed, double noise_sigma_grey,
+                                       double blur_sigma_px) {
+  CalibrationDatasetOptions o;
+  o.seed = seed;
+  o.noise_sigma_grey = noise_sigma_grey;
+  o.blur_sigma_px = blur_sigma_px;
+  write_calibration_dataset(dir, params, o);
+  return calibrate_camera(dir).camera;
+}
+
+}  // namespace airtwin
