@@ -5,6 +5,8 @@
 
 #include "renders/calibration_target.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -32,7 +34,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "airtwin_calibration_target_test" / name;
+  const fs::path dir = fs::temp_directory_path() /
+                       ("airtwin_calibration_target_test_" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   return dir;
 }

@@ -4,6 +4,8 @@
 
 #include "vision/calibrated_camera.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -43,7 +45,8 @@ CalibratedCamera rig_like_camera() {
 }
 
 std::string temp_path(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "airtwin_calibrated_camera_test";
+  const fs::path dir = fs::temp_directory_path() /
+                       ("airtwin_calibrated_camera_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return (dir / name).string();
 }

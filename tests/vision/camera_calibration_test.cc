@@ -6,6 +6,8 @@
 
 #include "vision/camera_calibration.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -33,7 +35,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path test_dir(const std::string& name) {
-  return fs::temp_directory_path() / "airtwin_camera_calibration_test" / name;
+  return fs::temp_directory_path() /
+         ("airtwin_camera_calibration_test_" + std::to_string(::getpid())) / name;
 }
 
 // A dataset rendered once per test program (rendering is the slow part).
