@@ -2,6 +2,7 @@
 // DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included) and
 // DIR/decisions.csv.
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -38,6 +39,17 @@ struct RunArgs {
 };
 
 void run_run(const RunArgs& a) {
+  // Flags first: nothing is read or written for a run that cannot start.
+  if (a.video_stride < 1) throw UsageError("--video-stride must be >= 1");
+  if (!a.vision && (!a.calib.empty() || a.noise != "none" || a.vision_rate_hz != 10.0)) {
+    throw UsageError("--calib, --noise and --vision-rate need --vision");
+  }
+  const NoiseLevel noise = parse_noise(a.noise);
+  const double frames_per_detection = 40.0 / a.vision_rate_hz;
+  if (!(a.vision_rate_hz > 0.0 && frames_per_detection <= 40.0 &&
+        std::fabs(frames_per_detection - std::round(frames_per_detection)) < 1e-9)) {
+    throw UsageError("--vision-rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
+  }
   const Scenario scenario = read_scenario(a.scenario);
   const AirFieldModel field = a.table.empty()
                                   ? AirFieldModel::with_default_table()
@@ -63,7 +75,6 @@ void run_run(const RunArgs& a) {
 
   std::filesystem::create_directories(a.out);
   if (a.vision) {
-    const NoiseLevel noise = parse_noise(a.noise);
     const double sigma = noise.noise_sigma_grey, blur = noise.blur_sigma_px;
     options.vision.rate_hz = a.vision_rate_hz;
     options.vision.noise_sigma_grey = sigma;
@@ -80,7 +91,6 @@ void run_run(const RunArgs& a) {
   }
   std::unique_ptr<RunVideo> video;
   if (!a.video.empty()) {
-    if (a.video_stride < 1) throw UsageError("--video-stride must be >= 1");
     ensure_parent_dir(a.video);
     video = std::make_unique<RunVideo>(a.video, scenario.task,
                                        scenario.name + " seed " + std::to_string(a.seed),

@@ -11,8 +11,7 @@ namespace airtwin {
 Controller::Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
                        std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
                        double forget_after_s)
-    : model_(model),
-      planner_(model, cem),
+    : planner_(model, cem),
       progress_(task),
       dynamics_(std::move(dynamics_by_type)),
       rng_(seed, RandomPurpose::kController, 0),

@@ -53,7 +53,6 @@ class Controller {
   const std::map<std::string, ObservedObject>& known() const { return known_; }
 
  private:
-  const AirFieldModel& model_;
   CemPlanner planner_;
   TaskProgress progress_;
   std::map<std::string, ObjectDynamics> dynamics_;

@@ -26,7 +26,6 @@ struct VisionPerception::Impl {
                                         const VisionPerceptionOptions& o) {
     TrackerOptions t;
     t.max_jump_m = o.max_speed_mps / o.rate_hz;
-    t.merge_radius_m = std::max(t.merge_radius_m, 0.045);
     t.image_width_px = camera.width_px;
     t.image_height_px = camera.height_px;
     // Coast ~1 s through merges and misses.
@@ -77,7 +76,8 @@ Observation VisionPerception::observe(const Twin& twin) {
   for (const Track& t : m.tracker.tracks()) {
     if (m.last_t_s - t.t_last_s > m.options.report_missing_s) continue;
     ObservedObject obj;
-    obj.id = "v" + std::to_string(t.id);
+    obj.id = "v";
+    obj.id += std::to_string(t.id);
     obj.type = object_kind_name(t.kind);
     obj.p_W = t.predict(m.last_t_s);
     obj.v_W = t.v_W;

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/errors.h"
+#include "vision/yaml_fields.h"
 
 namespace airtwin {
 namespace {
@@ -54,67 +55,6 @@ cv::Mat to_mat(const Eigen::Matrix<double, Rows, Cols>& e) {
   return m;
 }
 
-// The reader's checks: every failure names the file and the key.
-class YamlReader {
- public:
-  YamlReader(const std::string& path, const cv::FileStorage& fs) : path_(path), fs_(fs) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    std::string message = path_;
-    message += ": ";
-    message += key;
-    message += " ";
-    message += what;
-    throw InputError(message);
-  }
-
-  cv::FileNode node(const std::string& key) const {
-    cv::FileNode n = fs_[key];
-    if (n.empty() || n.isNone()) fail(key, "is missing");
-    return n;
-  }
-
-  double real(const std::string& key) const {
-    const cv::FileNode n = node(key);
-    if (!n.isReal() && !n.isInt()) fail(key, "must be a number");
-    const double value = static_cast<double>(n);
-    if (!std::isfinite(value)) fail(key, "must be finite");
-    return value;
-  }
-
-  int integer(const std::string& key) const {
-    const cv::FileNode n = node(key);
-    if (!n.isInt()) fail(key, "must be an integer");
-    return static_cast<int>(n);
-  }
-
-  template <int Rows, int Cols>
-  Eigen::Matrix<double, Rows, Cols> matrix(const std::string& key) const {
-    const cv::FileNode n = node(key);
-    cv::Mat m;
-    try {
-      n >> m;
-    } catch (const cv::Exception&) {
-      fail(key, "must be an opencv-matrix");
-    }
-    // A vector may be stored as a row or a column.
-    if (Cols == 1 && m.rows == 1) m = m.t();
-    if (m.rows != Rows || m.cols != Cols || m.channels() != 1) {
-      fail(key, "must be a " + std::to_string(Rows) + " x " + std::to_string(Cols) + " matrix");
-    }
-    m.convertTo(m, CV_64F);
-    Eigen::Matrix<double, Rows, Cols> e;
-    for (int r = 0; r < Rows; ++r) {
-      for (int c = 0; c < Cols; ++c) e(r, c) = m.at<double>(r, c);
-    }
-    if (!e.allFinite()) fail(key, "must hold finite numbers");
-    return e;
-  }
-
- private:
-  const std::string& path_;
-  const cv::FileStorage& fs_;
-};
 
 }  // namespace
 
@@ -180,7 +120,7 @@ CalibratedCamera CalibratedCamera::read(const std::string& path) {
     throw InputError(path +
                      ": not a YAML camera calibration file (cv::FileStorage cannot parse it)");
   }
-  const YamlReader in(path, fs);
+  const YamlFields in(path, fs);
 
   // The image size and the intrinsics: positive focal lengths, the bottom row (0 0 1).
   CalibratedCamera c;

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
-#include <set>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -18,6 +17,8 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "vision/frame_source.h"
+#include "vision/yaml_fields.h"
 
 namespace airtwin {
 namespace {
@@ -40,63 +41,6 @@ std::string num(double x) {
   return buffer;
 }
 
-// Reads the fields of a target.yaml; every failure names the file and the dotted key.
-class TargetReader {
- public:
-  TargetReader(const std::string& path, const cv::FileStorage& fs) : path_(path), fs_(fs) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    std::string message = path_;
-    message += ": ";
-    message += key;
-    message += " ";
-    message += what;
-    throw InputError(message);
-  }
-
-  // "section.key" -> fs[section][key].
-  cv::FileNode node(const std::string& section, const std::string& key) const {
-    const cv::FileNode map = fs_[section];
-    if (map.empty() || map.isNone()) fail(section, "is missing");
-    if (!map.isMap()) fail(section, "must be a map of keys");
-    const cv::FileNode n = map[key];
-    if (n.empty() || n.isNone()) fail(section + "." + key, "is missing");
-    return n;
-  }
-
-  double real(const std::string& section, const std::string& key) const {
-    const cv::FileNode n = node(section, key);
-    if (!n.isReal() && !n.isInt()) fail(section + "." + key, "must be a number");
-    const double value = static_cast<double>(n);
-    if (!std::isfinite(value)) fail(section + "." + key, "must be finite");
-    return value;
-  }
-
-  int integer(const std::string& section, const std::string& key) const {
-    const cv::FileNode n = node(section, key);
-    if (!n.isInt()) fail(section + "." + key, "must be an integer");
-    return static_cast<int>(n);
-  }
-
-  std::string text(const std::string& section, const std::string& key) const {
-    const cv::FileNode n = node(section, key);
-    if (!n.isString()) fail(section + "." + key, "must be a string");
-    return static_cast<std::string>(n);
-  }
-
- private:
-  const std::string& path_;
-  const cv::FileStorage& fs_;
-};
-
-bool is_image_file(const fs::path& path) {
-  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg",
-                                                    ".bmp", ".tif", ".tiff"};
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return kExtensions.count(extension) > 0;
-}
 
 // Mean grey level of a small patch around `centre` (px), clipped to the image.
 double patch_mean(const cv::Mat& grey, const cv::Point2f& centre, int half) {
@@ -543,12 +487,12 @@ CalibrationTarget CalibrationTarget::read(const std::string& path) {
     throw InputError(path +
                      ": not a YAML calibration target file (cv::FileStorage cannot parse it)");
   }
-  const TargetReader in(path, storage);
+  const YamlFields in(path, storage);
 
   // The board: an asymmetric pattern of at least 3 x 3 inner corners.
   CalibrationTarget t;
-  t.inner_corners_cols = in.integer("board", "inner_corners_cols");
-  t.inner_corners_rows = in.integer("board", "inner_corners_rows");
+  t.inner_corners_cols = in.integer("board.inner_corners_cols");
+  t.inner_corners_rows = in.integer("board.inner_corners_rows");
   if (t.inner_corners_cols < 3) in.fail("board.inner_corners_cols", "must be >= 3");
   if (t.inner_corners_rows < 3) in.fail("board.inner_corners_rows", "must be >= 3");
   if ((t.inner_corners_cols + t.inner_corners_rows) % 2 == 0) {
@@ -558,19 +502,19 @@ CalibrationTarget CalibrationTarget::read(const std::string& path) {
                 std::to_string(t.inner_corners_cols) + " x " +
                 std::to_string(t.inner_corners_rows));
   }
-  t.square_size_m = in.real("board", "square_size_m");
+  t.square_size_m = in.real("board.square_size_m");
   if (!(t.square_size_m > 0)) in.fail("board.square_size_m", "must be > 0");
-  t.thickness_m = in.real("board", "thickness_m");
+  t.thickness_m = in.real("board.thickness_m");
   if (!(t.thickness_m >= 0)) in.fail("board.thickness_m", "must be >= 0");
 
   // The reference view: a file name of the folder and the board's measured pose in it.
-  t.reference_frame = in.text("reference", "frame");
+  t.reference_frame = in.text("reference.frame");
   if (t.reference_frame.empty() || fs::path(t.reference_frame).filename() != t.reference_frame) {
     in.fail("reference.frame",
             "must be the file name of a frame in the folder, got '" + t.reference_frame + "'");
   }
-  t.origin_W = {in.real("reference", "origin_x_m"), in.real("reference", "origin_y_m")};
-  t.yaw_rad = deg_to_rad(in.real("reference", "yaw_deg"));
+  t.origin_W = {in.real("reference.origin_x_m"), in.real("reference.origin_y_m")};
+  t.yaw_rad = deg_to_rad(in.real("reference.yaw_deg"));
   return t;
 }
 
@@ -604,13 +548,9 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
   if (!fs::is_directory(dir)) throw InputError(dir + ": no such calibration folder");
   const CalibrationTarget target = CalibrationTarget::read((fs::path(dir) / kTargetFile).string());
   std::vector<std::string> frames;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-    if (entry.is_regular_file() && is_image_file(entry.path())) {
-      frames.push_back(entry.path().filename().string());
-    }
+  for (const std::string& file : list_image_files(dir)) {
+    frames.push_back(fs::path(file).filename().string());
   }
-  std::sort(frames.begin(), frames.end());
-  if (frames.empty()) throw InputError(dir + ": no image files (png, jpg, bmp, tif)");
   if (std::find(frames.begin(), frames.end(), target.reference_frame) == frames.end()) {
     std::string message = (fs::path(dir) / kTargetFile).string();
     message += ": reference.frame '";

@@ -24,7 +24,8 @@ bool is_image_name(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+         ext == ".tiff";
 }
 
 // Frames as the detector wants them: 8-bit BGR (a BGR image changes hands without a copy).
@@ -51,7 +52,9 @@ std::vector<std::string> list_image_files(const std::string& folder) {
     if (it->is_regular_file(ec) && is_image_name(it->path())) files.push_back(it->path().string());
   }
   if (ec) throw InputError(folder + ": cannot list the folder (" + ec.message() + ")");
-  if (files.empty()) throw InputError(folder + ": no PNG or JPEG images in the folder");
+  if (files.empty()) {
+    throw InputError(folder + ": no image files (png, jpg, jpeg, bmp, tif, tiff) in the folder");
+  }
   std::sort(files.begin(), files.end());
   return files;
 }

@@ -1,6 +1,6 @@
 #pragma once
-// Frames to detect objects in, with their times: a folder of images (PNG or JPEG, taken in the
-// order of their file names) or a video file (decoded by OpenCV's FFmpeg backend).
+// Frames to detect objects in, with their times: a folder of images (PNG, JPEG, BMP or TIFF, in
+// the order of their file names) or a video file (decoded by OpenCV's FFmpeg backend).
 //
 // Times: frame k is at k / fps (fps 40 by default, the rig's camera), unless a times file gives
 // them: a CSV with header `frame,t` (0-based frame index, time in s, docs/data_formats.md), found
@@ -64,7 +64,8 @@ class FrameSource {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The image files of a folder (extensions .png, .jpg, .jpeg in any case), sorted by name.
+/// The image files of a folder (extensions .png, .jpg, .jpeg, .bmp, .tif, .tiff in any case),
+/// sorted by name. InputError for a missing folder or one without images.
 /// Throws InputError when the folder does not exist or holds none.
 std::vector<std::string> list_image_files(const std::string& folder);
 

@@ -202,7 +202,7 @@ TEST(DetectCli, BadInputIsOneClearLine) {
   // Bad input: exit 1, naming the culprit.
   expect_error("detect " + dir + "/none" + calib + out, 1, "none: no such file or folder");
   std::filesystem::create_directories(dir + "/empty");
-  expect_error("detect " + dir + "/empty" + calib + out, 1, "no PNG or JPEG images");
+  expect_error("detect " + dir + "/empty" + calib + out, 1, "no image files");
   std::ofstream(dir + "/bad.mp4") << "not a video";
   expect_error("detect " + dir + "/bad.mp4" + calib + out, 1, "bad.mp4: cannot open as a video");
   expect_error("detect " + d.dir + "/frames --calib " + dir + "/none.yaml" + out, 1, "none.yaml");

@@ -139,7 +139,7 @@ TEST(FrameSource, UserErrorsAreInputErrorsNamingThePath) {
   // Missing path, empty folder, folder without images.
   EXPECT_NE(input_error([&] { FrameSource::open(dir + "/nothing"); }).find("no such file"),
             std::string::npos);
-  EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find("no PNG or JPEG images"),
+  EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find("no image files"),
             std::string::npos);
   write_file(dir + "/readme.txt", "hello");
   EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find(dir), std::string::npos);

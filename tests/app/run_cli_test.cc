@@ -1,0 +1,80 @@
+// `airtwin run` end to end: the three files it writes (summary.json with the keys, the
+// trajectory-CSV log, decisions.csv), consistent with one another, and one clear line for bad
+// input. (The controller, the loop and whole runs are tested in tests/controller and tests/rigs.)
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "models/trajectory_data.h"
+#include "tests/app/cli_runner.h"
+
+namespace airtwin {
+namespace {
+
+using testing::count_lines;
+using testing::run_airtwin;
+using testing::scratch_dir;
+
+const std::string kScenes = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/";
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(RunCli, LineWritesSummaryLogAndDecisions) {
+  const std::string d = scratch_dir("run_line");
+  const auto r = run_airtwin("run " + kScenes + "line.yaml --seed 2 --quiet --out " + d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(d + "/summary.json"));
+  for (const char* key : {"scenario", "seed", "success", "completion_time_s", "path_error_cm",
+                          "max_pairwise_distance_cm", "objects_in_zone", "n_objects",
+                          "decisions", "decision_ms"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["scenario"], "line");
+  EXPECT_EQ(j["seed"], 2);
+  EXPECT_EQ(j["n_objects"], 1);
+  EXPECT_EQ(j["perception"], "truth");
+  ASSERT_TRUE(j["success"].get<bool>());
+  // The log is a trajectory CSV the project reads back: one object, a row per 40 Hz frame up to
+  // the end of the run.
+  const TrajectorySet log = read_trajectory_csv(d + "/log.csv");
+  ASSERT_EQ(log.trajectories.size(), 1u);
+  EXPECT_EQ(log.trajectories[0].group, "line");
+  EXPECT_NEAR(log.trajectories[0].samples.back().t_s, j["end_time_s"].get<double>(), 1e-6);
+  // One decisions.csv row per decision after the header.
+  EXPECT_EQ(count_lines(slurp(d + "/decisions.csv")), 1 + j["decisions"].get<int>());
+  EXPECT_NE(r.out.find("line seed 2: success"), std::string::npos) << r.out;
+}
+
+TEST(RunCli, BadInputIsOneClearLine) {
+  const std::string d = scratch_dir("run_bad");
+  const auto missing = run_airtwin("run " + d + "/none.yaml --out " + d + "/o");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
+  EXPECT_NE(missing.err.find("none.yaml"), std::string::npos);
+
+  std::ofstream(d + "/bad.yaml") << "name: x\nobjects: []\ntask: {kind: path, time_limit_s: 10}\n";
+  const auto bad = run_airtwin("run " + d + "/bad.yaml --out " + d + "/o");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
+
+  const std::string line = "run " + kScenes + "line.yaml --out " + d + "/o ";
+  for (const std::string flags : {"--video-stride 0", "--noise low", "--vision --noise medium",
+                                  "--vision --vision-rate 7", "--calib c.yaml"}) {
+    const auto r = run_airtwin(line + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags;
+    EXPECT_EQ(count_lines(r.err), 1) << flags << ": " << r.err;
+  }
+  // Flags are checked before anything is written.
+  EXPECT_FALSE(std::ifstream(d + "/o/summary.json").good());
+}
+
+}  // namespace
+}  // namespace airtwin
