@@ -76,6 +76,10 @@ void add_collect_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--record", o.record_s, "Seconds recorded after the re-aim")
       ->capture_default_str();
+  sub->add_option("--lead-in", o.lead_in_s,
+                  "Seconds recorded before the re-aim, at the idle command (t < 0): the data then\n"
+                  "show the command change, which 'airtwin discrepancy' needs to tell a response delay")
+      ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();

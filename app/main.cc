@@ -23,9 +23,12 @@ int main(int argc, char** argv) {
   airtwin::cli::add_collect_command(app);
   airtwin::cli::add_calibrate_dynamics_command(app);
   airtwin::cli::add_run_command(app);
+  airtwin::cli::add_batch_command(app);
+  airtwin::cli::add_batch_merge_command(app);
   airtwin::cli::add_render_command(app);
   airtwin::cli::add_calibrate_command(app);
   airtwin::cli::add_detect_command(app);
+  airtwin::cli::add_discrepancy_command(app);
 
   try {
     app.parse(argc, argv);

@@ -12,12 +12,11 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/run_setup.h"
 #include "common/errors.h"
-#include "models/identified_model.h"
 #include "rigs/run_video.h"
 #include "rigs/scenario_run.h"
 #include "scenes/scenario.h"
-#include "sim/effects.h"
 
 namespace airtwin::cli {
 namespace {
@@ -25,15 +24,9 @@ namespace {
 struct RunArgs {
   std::string scenario;
   std::string out;
-  std::string table;
-  std::vector<std::string> models;
-  std::vector<std::string> effects;
+  RunSetupFlags setup;
   std::string video;
   int video_stride = 1;
-  bool vision = false;
-  std::string calib;
-  double vision_rate_hz = 10.0;
-  std::string noise = "none";
   uint64_t seed = 0;
   bool quiet = false;
 };
@@ -41,31 +34,11 @@ struct RunArgs {
 void run_run(const RunArgs& a) {
   // Flags first: nothing is read or written for a run that cannot start.
   if (a.video_stride < 1) throw UsageError("--video-stride must be >= 1");
-  if (!a.vision && (!a.calib.empty() || a.noise != "none" || a.vision_rate_hz != 10.0)) {
-    throw UsageError("--calib, --noise and --vision-rate need --vision");
-  }
-  const NoiseLevel noise = parse_noise(a.noise);
-  const double frames_per_detection = 40.0 / a.vision_rate_hz;
-  if (!(a.vision_rate_hz > 0.0 && frames_per_detection <= 40.0 &&
-        std::fabs(frames_per_detection - std::round(frames_per_detection)) < 1e-9)) {
-    throw UsageError("--vision-rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
-  }
+  check_run_setup_flags(a.setup);
   const Scenario scenario = read_scenario(a.scenario);
-  const AirFieldModel field = a.table.empty()
-                                  ? AirFieldModel::with_default_table()
-                                  : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
-  ScenarioRunOptions options;
+  const AirFieldModel field = field_model_of(a.setup);
+  ScenarioRunOptions options = run_options_of(a.setup);
   options.seed = a.seed;
-  std::vector<Effect> effects;
-  for (const std::string& text : a.effects) effects.push_back(parse_effect(text));
-  apply_effects(effects, &options.twin);
-  for (const std::string& path : a.models) {
-    const IdentifiedModel model = read_identified_model(path);
-    if (model.object.empty()) {
-      throw InputError(path + ": the model names no object type (identify it with --object)");
-    }
-    options.dynamics[model.object] = model.eq8();
-  }
   std::unique_ptr<Progress> progress;
   const int limit = static_cast<int>(scenario.task.time_limit_s);
   if (!a.quiet) progress = std::make_unique<Progress>("run " + scenario.name, "s", std::max(1, limit));
@@ -74,20 +47,10 @@ void run_run(const RunArgs& a) {
   };
 
   std::filesystem::create_directories(a.out);
-  if (a.vision) {
-    const double sigma = noise.noise_sigma_grey, blur = noise.blur_sigma_px;
-    options.vision.rate_hz = a.vision_rate_hz;
-    options.vision.noise_sigma_grey = sigma;
-    options.vision.blur_sigma_px = blur;
-    if (!a.calib.empty()) {
-      options.vision_camera = CalibratedCamera::read(a.calib);
-    } else {
-      // Calibrate the twin's camera as a user calibrates the rig's: frames of a checkerboard on
-      // the floor, kept in DIR/calibration with the result in DIR/calib.yaml.
-      options.vision_camera = calibrate_twin_camera(a.out + "/calibration", options.twin.scene,
-                                                    a.seed, sigma, blur);
-      options.vision_camera->write(a.out + "/calib.yaml");
-    }
+  if (a.setup.vision) {
+    // Without --calib, the twin's camera is calibrated with the run's seed: DIR/calibration and
+    // DIR/calib.yaml.
+    options.vision_camera = vision_camera_of(a.setup, options, a.out, a.seed);
   }
   std::unique_ptr<RunVideo> video;
   if (!a.video.empty()) {
@@ -144,29 +107,14 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--out", args->out, "Output folder")->required();
   sub->add_option("--seed", args->seed, "Seed of the twin and the controller")
       ->capture_default_str();
-  sub->add_option("--table", args->table, "Field coefficient table (default: built in)");
-  sub->add_option("--model", args->models,
-                  "model.json from 'airtwin identify' (repeatable, one per object type): the\n"
-                  "dynamics the controller plans with instead of the paper's eq. (8)");
-  sub->add_option("--effect", args->effects,
-                  "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
   sub->add_option("--video", args->video,
                   "Write the top camera with the overlay as H.264 MP4 (1024x1024, 40 fps) and a\n"
                   "sidecar FILE.mp4.json");
   sub->add_option("--video-stride", args->video_stride,
                   "Keep every k-th camera frame in the video (it then plays k times faster)")
       ->capture_default_str();
-  sub->add_flag("--vision", args->vision,
-               "The controller sees through the detection pipeline on rendered frames (calibrated\n"
-               "camera, detection, tracking) instead of the twin's truth");
-  sub->add_option("--calib", args->calib,
-                  "With --vision: the camera model (calib.yaml from 'airtwin calibrate'); default:\n"
-                  "calibrate the twin's camera into DIR/calibration and DIR/calib.yaml");
-  sub->add_option("--vision-rate", args->vision_rate_hz,
-                  "With --vision: frames detected per simulated second (divides 40)")
-      ->capture_default_str();
-  sub->add_option("--noise", args->noise, "With --vision: sensor noise none | low | high")
-      ->capture_default_str();
+  add_run_setup_flags(sub, args->setup,
+                      "calibrate the twin's camera into DIR/calibration and DIR/calib.yaml");
   sub->add_flag("--quiet", args->quiet, "No progress display");
   sub->callback([args] { run_run(*args); });
 }

@@ -20,6 +20,7 @@ enum class RandomPurpose : uint64_t {
   kCollection = 4,
   kController = 5,  // the CEM planner's samples
   kScenario = 6,    // randomised scenario layouts
+  kAnalysis = 7,    // the discrepancy analysis's train / held-out split
 };
 
 class RandomStream {

@@ -10,21 +10,29 @@
 
 namespace airtwin {
 
-ObjectState start_state(const std::vector<TrajectorySample>& s) {
-  AIRTWIN_DEMAND(s.size() >= 3);
+StartFit fit_start(const std::vector<TrajectorySample>& s, size_t first) {
+  AIRTWIN_DEMAND(first + 3 <= s.size());
   // Least-squares quadratic p(tau) = a + b tau + c tau^2 through the first frames (tau = t - t0).
-  const size_t k = std::min<size_t>(s.size(), kStartFrames);
+  const size_t k = std::min<size_t>(s.size() - first, kStartFrames);
   Eigen::MatrixXd A(k, 3);
   Eigen::MatrixXd P(k, 2);
   for (size_t i = 0; i < k; ++i) {
-    const double tau = s[i].t_s - s[0].t_s;
+    const double tau = s[first + i].t_s - s[first].t_s;
     A.row(i) << 1.0, tau, tau * tau;
-    P.row(i) = s[i].p_W.transpose();
+    P.row(i) = s[first + i].p_W.transpose();
   }
   const Eigen::MatrixXd coef = A.colPivHouseholderQr().solve(P);
+  StartFit fit;
+  fit.p_W = coef.row(0).transpose();
+  fit.v_W = coef.row(1).transpose();
+  return fit;
+}
+
+ObjectState start_state(const std::vector<TrajectorySample>& s) {
+  const StartFit fit = fit_start(s);
   ObjectState start;
-  start.p_W = coef.row(0).transpose();
-  start.v = coef.row(1).norm();
+  start.p_W = fit.p_W;
+  start.v = fit.v_W.norm();
   return start;
 }
 

@@ -54,7 +54,15 @@ struct ReplayReport {
 
 /// Frames used for the start state.
 inline constexpr size_t kStartFrames = 5;
-/// The start state of a trajectory of at least 3 samples (see above).
+/// Position and velocity at samples[first] from the least-squares quadratic in time through
+/// samples[first .. first + kStartFrames) (fewer at the end; at least 3).
+struct StartFit {
+  Eigen::Vector2d p_W = Eigen::Vector2d::Zero();  ///< m
+  Eigen::Vector2d v_W = Eigen::Vector2d::Zero();  ///< m/s
+};
+StartFit fit_start(const std::vector<TrajectorySample>& samples, size_t first = 0);
+/// The start state of a trajectory of at least 3 samples (see above): fit_start's position and
+/// the length of its velocity.
 ObjectState start_state(const std::vector<TrajectorySample>& samples);
 
 /// Replays every trajectory of `set` with `dynamics` in `field` using `predictor`.

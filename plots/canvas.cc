@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "common/errors.h"
@@ -155,6 +158,32 @@ void draw_text_upwards(cv::Mat& img, const std::string& text, cv::Point2d centre
 
 // ---- Axes ---------------------------------------------------------------------------------------
 
+namespace {
+
+// y ticks left of the frame, labels right-aligned and centred on them, the y label rotated.
+void draw_y_ticks_and_label(cv::Mat& img, const PlotFrame& frame, const std::string& y_label) {
+  const cv::Rect& a = frame.area_px();
+  const int left = a.x - 1;
+  const Ticks yt = nice_ticks(frame.y_min(), frame.y_max(), 6);
+  int widest = 0;
+  for (const double y : yt.values) {
+    const int v = static_cast<int>(std::lround(frame.to_px(frame.x_min(), y).y));
+    cv::line(img, cv::Point(left - kTickLength_px, v), cv::Point(left, v), kBlack, 1, cv::LINE_8);
+    const std::string label = format_tick(y, yt.step);
+    widest = std::max(widest, text_size(label, kTickStyle).width);
+    draw_text(img, label, cv::Point2d(left - kTickLength_px - kTickGap_px, v), HAlign::kRight,
+              VAlign::kMiddle, kTickStyle);
+  }
+  const int y_label_height = text_size(y_label, kAxisLabelStyle).height;
+  draw_text_upwards(img, y_label,
+                    cv::Point2d(left - kTickLength_px - kTickGap_px - widest - kAxisLabelGap_px -
+                                    0.5 * y_label_height,
+                                a.y + 0.5 * (a.height - 1)),
+                    kAxisLabelStyle);
+}
+
+}  // namespace
+
 void draw_axes(cv::Mat& img, const PlotFrame& frame, const std::string& x_label,
                const std::string& y_label) {
   const cv::Rect& a = frame.area_px();
@@ -176,23 +205,14 @@ void draw_axes(cv::Mat& img, const PlotFrame& frame, const std::string& x_label,
                         bottom + kTickLength_px + kTickGap_px + label_height + kAxisLabelGap_px),
             HAlign::kCentre, VAlign::kTop, kAxisLabelStyle);
 
-  // y ticks left of the frame, labels right-aligned and centred on them.
-  const Ticks yt = nice_ticks(frame.y_min(), frame.y_max(), 6);
-  int widest = 0;
-  for (const double y : yt.values) {
-    const int v = static_cast<int>(std::lround(frame.to_px(frame.x_min(), y).y));
-    cv::line(img, cv::Point(left - kTickLength_px, v), cv::Point(left, v), kBlack, 1, cv::LINE_8);
-    const std::string label = format_tick(y, yt.step);
-    widest = std::max(widest, text_size(label, kTickStyle).width);
-    draw_text(img, label, cv::Point2d(left - kTickLength_px - kTickGap_px, v), HAlign::kRight,
-              VAlign::kMiddle, kTickStyle);
-  }
-  const int y_label_height = text_size(y_label, kAxisLabelStyle).height;
-  draw_text_upwards(img, y_label,
-                    cv::Point2d(left - kTickLength_px - kTickGap_px - widest - kAxisLabelGap_px -
-                                    0.5 * y_label_height,
-                                a.y + 0.5 * (a.height - 1)),
-                    kAxisLabelStyle);
+  draw_y_ticks_and_label(img, frame, y_label);
+}
+
+void draw_y_axis(cv::Mat& img, const PlotFrame& frame, const std::string& y_label) {
+  const cv::Rect& a = frame.area_px();
+  cv::rectangle(img, cv::Point(a.x - 1, a.y - 1), cv::Point(a.x + a.width, a.y + a.height), kBlack,
+                1, cv::LINE_8);
+  draw_y_ticks_and_label(img, frame, y_label);
 }
 
 // ---- Colour scale -------------------------------------------------------------------------------
@@ -301,5 +321,27 @@ void draw_scalar_map(cv::Mat& img, const PlotFrame& frame, const Eigen::VectorXd
     }
   }
 }
+
+// ---- Output ------------------------------------------------------------------------------------
+
+void write_png(const cv::Mat& img, const std::string& path) {
+  std::vector<unsigned char> bytes;
+  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 6};
+  if (!cv::imencode(".png", img, bytes, params)) {
+    throw InputError(path + ": PNG encoding failed");
+  }
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) {
+    throw InputError(path + ": cannot open file for writing: " + std::strerror(errno));
+  }
+  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), file);
+  const int write_errno = errno;
+  const bool closed = std::fclose(file) == 0;
+  if (written != bytes.size() || !closed) {
+    throw InputError(
+        path + ": write failed: " + std::strerror(written != bytes.size() ? write_errno : errno));
+  }
+}
+
 
 }  // namespace airtwin::plots

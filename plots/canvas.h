@@ -107,6 +107,10 @@ void draw_text_upwards(cv::Mat& img, const std::string& text, cv::Point2d centre
 void draw_axes(cv::Mat& img, const PlotFrame& frame, const std::string& x_label,
                const std::string& y_label);
 
+/// The frame and the y half of draw_axes (y ticks, labels, the rotated y label), for plots whose x
+/// axis is not numeric (categories the caller labels).
+void draw_y_axis(cv::Mat& img, const PlotFrame& frame, const std::string& y_label);
+
 // ---- Colour scale -------------------------------------------------------------------------------
 
 /// Values in [lo, hi] -> the 256 colours of an OpenCV colour map; values outside saturate.
@@ -155,5 +159,10 @@ double bilinear(const Eigen::MatrixXd& values, const GridCell& cx, const GridCel
 void draw_scalar_map(cv::Mat& img, const PlotFrame& frame, const Eigen::VectorXd& x,
                      const Eigen::VectorXd& y, const Eigen::MatrixXd& values,
                      const ColourScale& scale);
+
+// ---- Output ------------------------------------------------------------------------------------
+
+/// Writes `img` as a PNG file; throws InputError naming the path when encoding or writing fails.
+void write_png(const cv::Mat& img, const std::string& path);
 
 }  // namespace airtwin::plots

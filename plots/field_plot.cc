@@ -391,27 +391,6 @@ void draw_legend(cv::Mat& img, const std::array<Mark, 2>& marks) {
   }
 }
 
-// ---- Output -------------------------------------------------------------------------------------
-
-void write_png(const cv::Mat& img, const std::string& path) {
-  std::vector<unsigned char> bytes;
-  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 6};
-  if (!cv::imencode(".png", img, bytes, params)) {
-    throw InputError(path + ": PNG encoding failed");
-  }
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr) {
-    throw InputError(path + ": cannot open file for writing: " + std::strerror(errno));
-  }
-  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), file);
-  const int write_errno = errno;
-  const bool closed = std::fclose(file) == 0;
-  if (written != bytes.size() || !closed) {
-    throw InputError(
-        path + ": write failed: " + std::strerror(written != bytes.size() ? write_errno : errno));
-  }
-}
-
 }  // namespace
 
 FieldPlotArea field_plot_area(const VectorFieldGrid& grid) {

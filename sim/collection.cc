@@ -34,6 +34,9 @@ void CollectionOptions::validate() const {
     throw UsageError("start distances: expected 0 < min <= max < 2 m");
   }
   if (!(wait_s >= 0 && wait_s <= 600)) throw UsageError("--wait: expected seconds in [0, 600]");
+  if (!(lead_in_s >= 0 && lead_in_s <= wait_s)) {
+    throw UsageError("--lead-in: expected seconds in [0, --wait]");
+  }
   if (!(record_s > 0 && record_s <= 600)) {
     throw UsageError("--record: expected seconds in (0, 600]");
   }
@@ -84,14 +87,22 @@ Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOp
   Twin twin(spec, params, field, trial.twin_seed);
 
   twin.set_jet(true);  // (ii) jet on, wait for the steady state
-  twin.advance(o.wait_s);
-  twin.command_nozzle(trial.target);  // (iii) re-aim and record
-  const double t0 = twin.time();
-  const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
+  const int lead_frames = static_cast<int>(std::floor(o.lead_in_s * o.frame_rate_hz + 1e-9));
+  const double lead_s = lead_frames / o.frame_rate_hz;
+  twin.advance(o.wait_s - lead_s);
+  const double t0 = twin.time() + lead_s;  // the re-aim
 
   Trajectory tr;
   tr.id = std::to_string(trial.index);
   tr.object = o.object;
+  for (int k = -lead_frames; k < 0; ++k) {  // the lead-in, at the idle command
+    const double t = k / o.frame_rate_hz;
+    twin.advance_to(t0 + t);
+    tr.samples.push_back({t, twin.object_state(0).p_W, o.idle});
+  }
+  twin.advance_to(t0);
+  twin.command_nozzle(trial.target);  // (iii) re-aim and record
+  const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
   for (int k = 0; k <= frames; ++k) {
     const double t = k / o.frame_rate_hz;
     twin.advance_to(t0 + t);

@@ -38,6 +38,10 @@ struct CollectionOptions {
   NozzleOrientation idle{-1.5707963267948966, 0.8726646259971648};  ///< pan -90, tilt 50 deg
   double wait_s = 8.0;                       ///< jet on at idle before the re-aim (s)
   double record_s = 2.0;                     ///< recording after the re-aim (s)
+  /// Recording before the re-aim (s, at most wait_s): frames at t < 0 with the idle command, so
+  /// the data show the command change and the nozzle's travel (the discrepancy analysis needs
+  /// it to tell a response delay; models/nozzle_response.h). 0: none, as Appendix D.
+  double lead_in_s = 0.0;
   double frame_rate_hz = 40.0;
   TwinParameters twin;                       ///< the twin's physics (effects applied here)
   int threads = 1;                           ///< twins run in parallel (0: one per core)

@@ -1,0 +1,115 @@
+// airtwin discrepancy: what the model gets wrong in measured trajectories, the physical cause,
+// the extended model, and what it gains (models/discrepancy.h, docs/discrepancy.md).
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "common/errors.h"
+#include "models/air_field.h"
+#include "models/discrepancy.h"
+#include "models/extended_model.h"
+#include "models/identified_model.h"
+#include "models/trajectory_data.h"
+#include "plots/residual_plot.h"
+
+namespace airtwin::cli {
+namespace {
+
+struct DiscrepancyArgs {
+  std::string data;
+  std::vector<std::string> models;
+  std::string table;
+  double holdout = 0.3;
+  uint64_t seed = 1;
+  double window_s = 3.0;
+  std::string out;
+  bool quiet = false;
+};
+
+void run(const DiscrepancyArgs& a) {
+  DiscrepancyOptions options;
+  options.holdout_fraction = a.holdout;
+  options.seed = a.seed;
+  options.window_s = a.window_s;
+  options.validate();  // flags first, before any file is read or written
+
+  const TrajectorySet set = read_trajectory_csv(a.data);
+  const AirFieldModel field = a.table.empty()
+                                  ? AirFieldModel::with_default_table()
+                                  : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
+  // The nominal dynamics: the paper's, replaced per object type by the models given.
+  std::map<std::string, ObjectDynamics> objects = {{"tracer", kTracerDynamics},
+                                                   {"cotton", kCottonDynamics}};
+  for (const std::string& path : a.models) {
+    const IdentifiedModel model = read_identified_model(path);
+    if (model.object.empty()) {
+      throw InputError(path + ": the model names no object type (identify it with --object)");
+    }
+    objects[model.object] = model.eq8();
+  }
+  if (!a.quiet) {
+    options.progress = [](const std::string& line) {
+      std::fprintf(stderr, "discrepancy: %s\n", line.c_str());
+    };
+  }
+  DiscrepancyReport report = analyse_discrepancy(set, field, objects, options);
+  report.source = a.data;
+
+  ExtendedModel extended;
+  extended.objects = objects;
+  extended.nozzle = options.nozzle;
+  extended.extensions = report.extensions;
+  extended.table = a.table;
+  extended.source = a.data;
+  std::filesystem::create_directories(a.out);
+  write_text_file(a.out + "/report.json", discrepancy_report_json(report));
+  write_text_file(a.out + "/report.md", discrepancy_report_markdown(report));
+  write_text_file(a.out + "/extended_model.json", extended_model_json(extended));
+  plots::write_residual_plots(report, a.out);
+
+  std::string found;
+  if (!report.decidable) {
+    found = "undecided (see report.md)";
+  } else if (report.found.empty()) {
+    found = "none";
+  }
+  for (const std::string& f : report.found) found += (found.empty() ? "" : ", ") + f;
+  std::printf("found: %s; held-out end MAPE %.1f %% -> %.1f %%; report in %s/report.md\n",
+              found.c_str(), report.baseline_end_mape, report.extended_end_mape, a.out.c_str());
+}
+
+}  // namespace
+
+void add_discrepancy_command(CLI::App& app) {
+  auto args = std::make_shared<DiscrepancyArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "discrepancy",
+      "Find what the model gets wrong in measured trajectories (Appendix D recordings or a\n"
+      "closed-loop log): baseline errors and residual structure, a catalogue of physical causes\n"
+      "fitted on a training split and tested on held-out data, and the extended model with the\n"
+      "causes found. Writes report.json, report.md, extended_model.json and residual plots.\n"
+      "docs/discrepancy.md.");
+  sub->add_option("data", args->data, "Trajectory CSV (traj,object,t,x,y,pan_deg,tilt_deg)")
+      ->required();
+  sub->add_option("--model", args->models,
+                  "model.json from 'airtwin identify' (repeatable, one per object type); default:\n"
+                  "the paper's coefficients");
+  sub->add_option("--table", args->table, "Field coefficient table (default: built in)");
+  sub->add_option("--holdout", args->holdout, "Fraction of windows held out for scoring")
+      ->capture_default_str();
+  sub->add_option("--seed", args->seed, "Seed of the train / held-out split")
+      ->capture_default_str();
+  sub->add_option("--window", args->window_s,
+                  "Longest prediction (s): longer trajectories are cut into windows")
+      ->capture_default_str();
+  sub->add_option("--out", args->out, "Output folder")->required();
+  sub->add_flag("--quiet", args->quiet, "No progress on stderr");
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace airtwin::cli

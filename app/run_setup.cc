@@ -1,0 +1,91 @@
+#include "app/run_setup.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "app/cli_common.h"
+#include "common/errors.h"
+#include "models/identified_model.h"
+#include "sim/effects.h"
+
+namespace airtwin::cli {
+
+void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& calib_default) {
+  sub->add_option("--table", f.table, "Field coefficient table (default: built in)");
+  sub->add_option("--model", f.models,
+                  "model.json from 'airtwin identify' (repeatable, one per object type): the\n"
+                  "dynamics the controller plans with instead of the paper's eq. (8)");
+  sub->add_option("--effect", f.effects,
+                  "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
+  sub->add_flag(
+      "--vision", f.vision,
+      "The controller sees through the detection pipeline on rendered frames (calibrated\n"
+      "camera, detection, tracking) instead of the twin's truth");
+  sub->add_option(
+      "--calib", f.calib,
+      "With --vision: the camera model (calib.yaml from 'airtwin calibrate'); default:\n" +
+          calib_default);
+  sub->add_option("--vision-rate", f.vision_rate_hz,
+                  "With --vision: frames detected per simulated second (divides 40)")
+      ->capture_default_str();
+  sub->add_option("--noise", f.noise, "With --vision: sensor noise none | low | high")
+      ->capture_default_str();
+}
+
+void check_run_setup_flags(const RunSetupFlags& f) {
+  if (!f.vision && (!f.calib.empty() || f.noise != "none" || f.vision_rate_hz != 10.0)) {
+    throw UsageError("--calib, --noise and --vision-rate need --vision");
+  }
+  parse_noise(f.noise);
+  const double frames_per_detection = 40.0 / f.vision_rate_hz;
+  if (!(f.vision_rate_hz > 0.0 && frames_per_detection <= 40.0 &&
+        std::fabs(frames_per_detection - std::round(frames_per_detection)) < 1e-9)) {
+    throw UsageError("--vision-rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
+  }
+  for (const std::string& text : f.effects) parse_effect(text);
+}
+
+AirFieldModel field_model_of(const RunSetupFlags& f) {
+  return f.table.empty() ? AirFieldModel::with_default_table()
+                         : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(f.table));
+}
+
+ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
+  ScenarioRunOptions options;
+  // The twin's physics with the effects switched on.
+  std::vector<Effect> effects;
+  for (const std::string& text : f.effects) effects.push_back(parse_effect(text));
+  apply_effects(effects, &options.twin);
+  // The dynamics the controller plans with, per object type.
+  for (const std::string& path : f.models) {
+    const IdentifiedModel model = read_identified_model(path);
+    if (model.object.empty()) {
+      throw InputError(path + ": the model names no object type (identify it with --object)");
+    }
+    options.dynamics[model.object] = model.eq8();
+  }
+  // The vision pipeline's sensor and rate.
+  if (f.vision) {
+    const NoiseLevel noise = parse_noise(f.noise);
+    options.vision.rate_hz = f.vision_rate_hz;
+    options.vision.noise_sigma_grey = noise.noise_sigma_grey;
+    options.vision.blur_sigma_px = noise.blur_sigma_px;
+  }
+  return options;
+}
+
+CalibratedCamera vision_camera_of(const RunSetupFlags& f, const ScenarioRunOptions& options,
+                                  const std::string& dir, uint64_t seed) {
+  if (!f.calib.empty()) return CalibratedCamera::read(f.calib);
+  const CalibratedCamera camera =
+      calibrate_twin_camera(dir + "/calibration", options.twin.scene, seed,
+                            options.vision.noise_sigma_grey, options.vision.blur_sigma_px);
+  // Written under another name and renamed, so that calib.yaml is never a part of a file.
+  camera.write(dir + "/calib.partial.yaml");
+  std::error_code ec;
+  std::filesystem::rename(dir + "/calib.partial.yaml", dir + "/calib.yaml", ec);
+  if (ec) throw InputError(dir + "/calib.yaml: cannot write: " + ec.message());
+  return camera;
+}
+
+}  // namespace airtwin::cli

@@ -1,0 +1,50 @@
+#pragma once
+// What `run` and `batch` share: the flags that set up a closed-loop run besides the scenario and
+// the seed (field table, identified models, twin effects, vision), their checks, and their
+// translation into ScenarioRunOptions (rigs/scenario_run.h).
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "models/air_field.h"
+#include "rigs/scenario_run.h"
+#include "vision/calibrated_camera.h"
+
+namespace airtwin::cli {
+
+struct RunSetupFlags {
+  std::string table;
+  std::vector<std::string> models;
+  std::vector<std::string> effects;
+  bool vision = false;
+  std::string calib;
+  double vision_rate_hz = 10.0;
+  std::string noise = "none";
+};
+
+/// Adds --table, --model, --effect, --vision, --calib, --vision-rate and --noise to `sub`.
+/// `calib_default` completes --calib's help: what happens without it.
+void add_run_setup_flags(CLI::App* sub, RunSetupFlags& flags, const std::string& calib_default);
+
+/// Throws UsageError naming the flag: vision-only flags without --vision, an unknown --noise, a
+/// --vision-rate that does not divide the camera's 40 Hz, a malformed --effect. Reads no file.
+void check_run_setup_flags(const RunSetupFlags& flags);
+
+/// The field model: --table's, or the built-in table. Throws InputError for a bad table file.
+AirFieldModel field_model_of(const RunSetupFlags& flags);
+
+/// The run options the flags set (the seed is left 0): effects in the twin, the dynamics of the
+/// --model files, the vision pipeline's rate, noise and blur (the camera is vision_camera_of's).
+/// Throws InputError for an unreadable model or one that names no object type.
+ScenarioRunOptions run_options_of(const RunSetupFlags& flags);
+
+/// With --vision: --calib's camera, or the twin's camera calibrated as a user calibrates the rig's
+/// (checkerboard views rendered into `dir`/calibration with `seed` and the flags' noise and blur,
+/// the result written to `dir`/calib.yaml, which appears complete or not at all). Throws InputError
+/// for a bad --calib file.
+CalibratedCamera vision_camera_of(const RunSetupFlags& flags, const ScenarioRunOptions& options,
+                                  const std::string& dir, uint64_t seed);
+
+}  // namespace airtwin::cli

@@ -1,0 +1,144 @@
+#pragma once
+// What the model gets wrong in measured data, why, and what fixing it gains (`airtwin
+// discrepancy`). Given trajectories (Appendix D recordings or the log of a closed-loop run):
+//
+// 1. Windows. Each trajectory is cut into windows of at most window_s (a 2 s Appendix D trial is
+//    one window; a closed-loop log many). A window is predicted from its first observed state
+//    (position and velocity from a quadratic through its first 5 frames) under the recorded
+//    command history, so a prediction never runs longer than a window.
+// 2. Baseline. The nominal model: the field table, the eq. (8) coefficients and the nozzle's
+//    response (servo travel and transit, models/nozzle_response.h), integrated as eqs. (8)-(9)
+//    (models/extended_predictor.h with every extension off). Per window: the path error (RMS of
+//    the position error over the window's frames, divided by the window's scale, its measured path
+//    length but at least 5 cm) and the end error in percent of that scale (so an object that
+//    stayed put while the model moved it 30 cm counts 600 %, and every model is scored on the same
+//    windows with the same denominators). Residuals are split into the component along the radial direction from
+//    s and across it, and binned against distance from s, alpha, time since the command changed,
+//    speed and floor position.
+// 3. Diagnosis. The trajectories are split (seeded) into a training and a held-out part. Each
+//    extension of the catalogue (models/model_extensions.h) is fitted on the training windows by
+//    nonlinear least squares on the normalised position errors (a grid over its fit range, then
+//    Levenberg-Marquardt from Eigen's unsupported module with central differences), and scored on
+//    the held-out windows. It counts as a cause when all three hold:
+//      - delta BIC <= -10 on the training windows (n = windows, SSE of the normalised errors);
+//      - the one-sided Wilcoxon signed-rank test of the held-out per-window path errors
+//        (nominal minus extended) gives p < alpha / (number of candidates) (Bonferroni);
+//      - the held-out median path error falls by at least min_gain (an effect, not noise:
+//        turbulence adds scatter that no extension removes, so nothing passes on data without a
+//        cause);
+//      - the fitted size exceeds the extension's negligible size (models/model_extensions.h).
+//    Among the causes of a round the one with the lowest held-out cost is added.
+//    Selection is forward: the best cause is added, the remaining extensions are refitted on top
+//    of it and tested against it, and so on, up to max_found.
+// 4. Extension. The causes found, with their fitted parameters, make the extended model
+//    (models/extended_model.h); its held-out end MAPE against the baseline's is the gain.
+//
+// What cannot be decided is stated, not guessed: too few windows, windows too short, a response
+// delay without any command change recorded, a single tilt (the tilt dependence is not checked).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "models/air_field.h"
+#include "models/extended_model.h"
+#include "models/trajectory_data.h"
+
+namespace airtwin {
+
+struct DiscrepancyOptions {
+  double holdout_fraction = 0.3;  ///< of the trajectories, for scoring (0.1-0.9)
+  std::uint64_t seed = 1;         ///< the split
+  double window_s = 3.0;          ///< longest prediction (s)
+  double min_window_s = 0.5;      ///< shorter windows are not used
+  int residual_stride = 2;        ///< frames between the samples of the error
+  double alpha = 0.01;            ///< family-wise significance level
+  double max_delta_bic = -10.0;   ///< a cause needs delta BIC at most this
+  double min_gain = 0.15;         ///< and this relative reduction of the held-out path error
+  int max_found = 3;
+  size_t min_windows = 20;          ///< fewer usable windows: nothing can be decided
+  size_t min_heldout_windows = 8;   ///< fewer held-out windows: nothing can be decided
+  int max_iterations = 40;          ///< Levenberg-Marquardt iterations per fit
+  double predictor_step_s = 1e-3;
+  NozzleResponseParameters nozzle;  ///< the nominal response
+  /// Called with one line per stage (progress for people); optional.
+  std::function<void(const std::string&)> progress;
+
+  /// Throws UsageError naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// One candidate's fit and score.
+struct CandidateResult {
+  std::string name;
+  std::vector<double> params;  ///< typed, catalogue order
+  double train_sse = 0.0;
+  double delta_bic = 0.0;             ///< training, against the round's base (negative: better)
+  double p_value = 1.0;               ///< held-out, one-sided Wilcoxon signed-rank
+  double heldout_path_error = 0.0;    ///< median normalised path error (1 = one scale)
+  double heldout_end_mape = 0.0;      ///< percent
+  double gain = 0.0;                  ///< 1 - held-out path error / the base's
+  double heldout_cost = 0.0;          ///< the robust cost over the held-out windows
+  bool relevant = false;              ///< larger than the extension's negligible size
+  bool significant = false;
+  int fit_evaluations = 0;
+};
+
+/// A bin of residuals (cm): the mean along the radial direction from s, across it (positive
+/// counter-clockwise) and of the error's length.
+struct ResidualBin {
+  double lo = 0.0, hi = 0.0;
+  size_t n = 0;
+  double radial_cm = 0.0, tangential_cm = 0.0, norm_cm = 0.0;
+};
+
+/// One residual sample of the baseline (for plots and bins).
+struct ResidualSample {
+  double distance_m = 0.0;   ///< from the stagnation point the field follows
+  double alpha_deg = 0.0;    ///< direction from s, from downstream, in (-180, 180]
+  double since_change_s = 0.0;  ///< since the command last changed
+  double speed_mps = 0.0;       ///< measured speed
+  Eigen::Vector2d p_W = Eigen::Vector2d::Zero();
+  double radial_m = 0.0, tangential_m = 0.0;  ///< prediction minus measurement
+};
+
+struct DiscrepancyReport {
+  std::string source;
+  size_t n_trajectories = 0, n_windows = 0, n_train_windows = 0, n_heldout_windows = 0;
+  size_t n_mape_windows = 0;  ///< held-out windows in the MAPE
+  std::vector<double> tilts_deg;  ///< distinct tilts seen
+  bool decidable = false;
+  std::vector<std::string> notes;  ///< what could not be decided and why
+
+  double baseline_end_mape = 0.0;       ///< held-out, percent
+  double baseline_end_mape_all = 0.0;   ///< every window, percent
+  double baseline_path_error = 0.0;     ///< held-out mean normalised path error
+  double baseline_path_error_cm_mean = 0.0, baseline_path_error_cm_max = 0.0;  ///< every window
+  std::vector<ResidualSample> residuals;
+  std::map<std::string, std::vector<ResidualBin>> residual_bins;  ///< by quantity
+
+  std::vector<CandidateResult> candidates;  ///< round 1: each extension alone
+  std::vector<std::vector<CandidateResult>> rounds;  ///< every round of the forward selection
+  std::vector<std::string> found;           ///< in the order they were added
+  ModelExtensions extensions;               ///< fitted jointly over the found causes
+  double extended_end_mape = 0.0;           ///< held-out, percent
+  double extended_path_error = 0.0;
+  double gain_pct = 0.0;  ///< 100 (1 - extended / baseline) of the held-out end MAPE
+};
+
+/// Runs the analysis. `objects` gives eq. (8) coefficients per object type; every type in `set`
+/// must be there (InputError naming the type otherwise).
+DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldModel& field,
+                                      const std::map<std::string, ObjectDynamics>& objects,
+                                      const DiscrepancyOptions& options);
+
+/// report.json: baseline_end_mape, found, candidates [{name, params {key: value}, heldout_end_mape,
+/// delta_bic, p_value, ...}], extended_end_mape, gain_pct, then the details.
+std::string discrepancy_report_json(const DiscrepancyReport& report);
+/// report.md: what is wrong, where, why, what was added, what it gained; for people.
+std::string discrepancy_report_markdown(const DiscrepancyReport& report);
+
+}  // namespace airtwin
