@@ -143,7 +143,8 @@ double robust_cost(double e) {
 // Per-window figures of one model.
 struct WindowScore {
   double path_error = 0.0;  // RMS normalised position error
-  double end_pct = NAN;     // NaN: not in the MAPE
+  double end_pct = NAN;     // percent of the window's scale
+  double predicted_travel_m = 0.0;  // predicted displacement over the window
 };
 
 class Evaluator {
@@ -193,6 +194,7 @@ class Evaluator {
         // Percent of the distance travelled, at least the window's scale (5 cm), so that every
         // window counts with one fixed denominator whatever the model predicts.
         sc.end_pct = 100.0 * (predicted.back() - w.measured.back()).norm() / w.scale_m;
+        sc.predicted_travel_m = (predicted.back() - w.start.p_W).norm();
       }
     };
     const size_t n = which.size();
@@ -236,11 +238,15 @@ double sum_squares(const std::vector<WindowScore>& s) {
   for (const WindowScore& w : s) sum += robust_cost(w.path_error);
   return sum;
 }
-// The typical path error: the median over windows (robust to the same few windows).
-double mean_path_error(const std::vector<WindowScore>& s) {
-  if (s.empty()) return NAN;
+// The typical path error: the median over the windows marked informative (robust to the same
+// few windows; windows where nothing moved and nothing was predicted to move, e.g. objects
+// parked in a zone for most of a closed-loop log, would make it 0 whatever the model).
+double mean_path_error(const std::vector<WindowScore>& s, const std::vector<char>& informative) {
   std::vector<double> e;
-  for (const WindowScore& w : s) e.push_back(w.path_error);
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (informative[i]) e.push_back(s[i].path_error);
+  }
+  if (e.empty()) return NAN;
   const size_t mid = e.size() / 2;
   std::nth_element(e.begin(), e.begin() + static_cast<long>(mid), e.end());
   if (e.size() % 2 == 1) return e[mid];
@@ -637,7 +643,13 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   for (size_t i : held) base_held.push_back(base_all[i]);
   for (size_t i : train) base_train.push_back(base_all[i]);
   report.baseline_end_mape = end_mape(base_held, &report.n_mape_windows);
-  report.baseline_path_error = mean_path_error(base_held);
+  // Informative held-out windows: the object moved at least 1 cm, or the nominal model moved it.
+  std::vector<char> informative;
+  for (size_t k = 0; k < held.size(); ++k) {
+    informative.push_back(ws.windows[held[k]].path_m >= 0.01 ||
+                          base_held[k].predicted_travel_m >= 0.01);
+  }
+  report.baseline_path_error = mean_path_error(base_held, informative);
   residual_structure(ev, ws, &report);
 
   // What can be decided.
@@ -686,7 +698,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   for (int round = 0; round < o.max_found; ++round) {
     std::vector<CandidateResult> results;
     const double base_sse = sum_squares(cur_train);
-    const double base_err = mean_path_error(cur_held);
+    const double base_err = mean_path_error(cur_held, informative);
     for (const std::string& name : names) {
       if (std::find(chosen.begin(), chosen.end(), name) != chosen.end()) continue;
       say("round " + std::to_string(round + 1) + ": fitting " + name);
@@ -706,7 +718,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
       std::vector<double> d(held.size());
       for (size_t i = 0; i < held.size(); ++i) d[i] = cur_held[i].path_error - h[i].path_error;
       c.p_value = wilcoxon_greater(d);
-      c.heldout_path_error = mean_path_error(h);
+      c.heldout_path_error = mean_path_error(h, informative);
       c.heldout_end_mape = end_mape(h);
       c.gain = 1.0 - c.heldout_path_error / base_err;
       c.heldout_cost = sum_squares(h);
@@ -762,7 +774,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   report.found = chosen;
   report.extensions = current;
   report.extended_end_mape = end_mape(cur_held);
-  report.extended_path_error = mean_path_error(cur_held);
+  report.extended_path_error = mean_path_error(cur_held, informative);
   report.gain_pct = 100.0 * (1.0 - report.extended_end_mape / report.baseline_end_mape);
   return report;
 }

@@ -23,7 +23,8 @@
 //      - delta BIC <= -10 on the training windows (n = windows, SSE of the normalised errors);
 //      - the one-sided Wilcoxon signed-rank test of the held-out per-window path errors
 //        (nominal minus extended) gives p < alpha / (number of candidates) (Bonferroni);
-//      - the held-out median path error falls by at least min_gain (an effect, not noise:
+//      - the held-out median path error (over windows where something moved or was predicted
+//        to) falls by at least min_gain (an effect, not noise:
 //        turbulence adds scatter that no extension removes, so nothing passes on data without a
 //        cause);
 //      - the fitted size exceeds the extension's negligible size (models/model_extensions.h).

@@ -1,5 +1,7 @@
 #include "models/extended_model.h"
 
+#include <array>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -128,6 +130,20 @@ ExtendedModel read_extended_model(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return parse_extended_model_json(text.str(), path);
+}
+
+FieldTable scaled_field_table(const FieldTable& table, double factor) {
+  if (!(std::isfinite(factor) && factor > 0.0)) {
+    throw InputError("field scale must be finite and > 0");
+  }
+  std::vector<std::array<FieldCoefficients, FieldTable::kAlphaBins>> c(table.n_tilts());
+  for (size_t i = 0; i < table.n_tilts(); ++i) {
+    for (int a = 0; a < FieldTable::kAlphaBins; ++a) {
+      c[i][static_cast<size_t>(a)] = table.at(i, a);
+      c[i][static_cast<size_t>(a)].b1 *= factor;
+    }
+  }
+  return FieldTable(table.tilts_rad(), std::move(c));
 }
 
 }  // namespace airtwin

@@ -15,6 +15,7 @@
 #include <map>
 #include <string>
 
+#include "models/field_table.h"
 #include "models/model_extensions.h"
 #include "models/nozzle_response.h"
 #include "models/object_dynamics.h"
@@ -36,5 +37,10 @@ bool looks_like_extended_model(const std::string& text);
 /// Reads the file back; every problem is an InputError naming the source and the key.
 ExtendedModel parse_extended_model_json(const std::string& text, const std::string& source);
 ExtendedModel read_extended_model(const std::string& path);
+
+/// The field table with every profile's air speed times `factor` (eq. (3) is linear in b1): the
+/// field_scale extension for planners that take a field model only. Throws InputError unless
+/// factor is finite and > 0.
+FieldTable scaled_field_table(const FieldTable& table, double factor);
 
 }  // namespace airtwin

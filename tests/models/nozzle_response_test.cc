@@ -1,0 +1,68 @@
+#include "models/nozzle_response.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/errors.h"
+
+namespace airtwin {
+namespace {
+
+// Time for a trapezoidal move of d rad from rest to rest (speed v, acceleration a): the
+// closed form, an independent truth for the stepped servo.
+double trapezoid_time(double d, double v, double a) {
+  if (d >= v * v / a) return d / v + v / a;  // reaches full speed
+  return 2.0 * std::sqrt(d / a);             // triangular profile
+}
+
+// When the timeline first reaches `target` on the pan axis.
+double arrival(const NozzleTimeline& tl, double target, double t_end) {
+  for (double t = 0.0; t <= t_end; t += 1e-4) {
+    if (std::abs(tl.actual(t).pan_rad - target) < 1e-9) return t;
+  }
+  return INFINITY;
+}
+
+TEST(NozzleResponse, ServoMovesLikeTheTrapezoidalProfile) {
+  const NozzleResponseParameters p;  // 7 rad/s, 30 rad/s^2
+  for (double d : {0.2, 1.0, 3.0}) {
+    SCOPED_TRACE(d);
+    const NozzleTimeline tl(p, {{0.0, {0.0, 0.3}}, {0.1, {d, 0.3}}}, 3.0, 1e-4);
+    const double expected = 0.1 + trapezoid_time(d, p.max_speed_radps, p.max_acceleration_radps2);
+    // One step of the discrete profile per phase change: well below a camera frame (25 ms).
+    EXPECT_NEAR(arrival(tl, d, 3.0), expected, 0.01);
+    EXPECT_DOUBLE_EQ(tl.actual(0.05).pan_rad, 0.0);  // before the command: at rest
+    EXPECT_DOUBLE_EQ(tl.actual(0.3).tilt_rad, 0.3);  // the other axis does not move
+    // Speed never exceeds the limit.
+    for (double t = 0.0; t < 3.0; t += 0.01) {
+      EXPECT_LE(std::abs(tl.actual(t + 0.01).pan_rad - tl.actual(t).pan_rad),
+                p.max_speed_radps * 0.01 + 1e-9);
+    }
+  }
+}
+
+TEST(NozzleResponse, FieldFollowsAfterTheTransitAndExtraDelay) {
+  const NozzleResponseParameters p;
+  const NozzleTimeline tl(p, {{0.0, {0.0, 0.0}}, {0.5, {1.0, 0.2}}}, 3.0);
+  for (double t : {0.4, 0.7, 1.0, 2.0}) {
+    EXPECT_DOUBLE_EQ(tl.effective(t).pan_rad, tl.actual(t - 0.2).pan_rad);
+    EXPECT_DOUBLE_EQ(tl.effective(t, 0.3).tilt_rad, tl.actual(t - 0.5).tilt_rad);
+  }
+  EXPECT_TRUE(tl.at_rest_between(0.0, 0.5));
+  EXPECT_FALSE(tl.at_rest_between(0.0, 0.6));
+  EXPECT_TRUE(tl.at_rest_between(2.0, 3.0));
+}
+
+TEST(NozzleResponse, RejectsBadInput) {
+  NozzleResponseParameters p;
+  p.max_speed_radps = 0.0;
+  EXPECT_THROW(NozzleTimeline(p, {{0.0, {0.0, 0.0}}}, 1.0), InputError);
+  const NozzleResponseParameters ok;
+  EXPECT_THROW(NozzleTimeline(ok, {}, 1.0), InputError);
+  EXPECT_THROW(NozzleTimeline(ok, {{0.0, {0.0, 0.0}}, {0.0, {1.0, 0.0}}}, 1.0), InputError);
+  EXPECT_THROW(NozzleTimeline(ok, {{0.0, {NAN, 0.0}}}, 1.0), InputError);
+}
+
+}  // namespace
+}  // namespace airtwin
