@@ -39,12 +39,14 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   if (scenario.scene.objects.empty()) {
     throw InputError(scenario.source + ": the scenario has no objects");
   }
+  // The field the controller plans with: the twin's, or the one the options give.
+  const AirFieldModel& planning = options.planning_field ? *options.planning_field : field_model;
 
   // The nozzle starts where the controller would first aim, the jet running: the rig is ready
   // when the run begins (a plan from the start positions, with its own random stream).
   TwinParameters params = options.twin;
   {
-    Controller first(field_model, scenario.controller, scenario.task, options.dynamics,
+    Controller first(planning, scenario.controller, scenario.task, options.dynamics,
                      options.seed ^ 0x5EEDF00Dull);
     first.observe(start_observation(scenario));
     params.initial_orientation = first.decide(0.0).plan.orientation;
@@ -65,7 +67,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   }
   TwinRig rig(twin, *perception);
   RunMetrics metrics(scenario.task);
-  Controller controller(field_model, scenario.controller, scenario.task, options.dynamics,
+  Controller controller(planning, scenario.controller, scenario.task, options.dynamics,
                         options.seed);
 
   // The log: one trajectory per object, a row per camera frame, the commanded orientation.

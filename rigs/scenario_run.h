@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct ScenarioRunOptions {
   /// eq. (8) coefficients the controller plans with, per object type (defaults: the paper's).
   std::map<std::string, ObjectDynamics> dynamics = {{"tracer", kTracerDynamics},
                                                     {"cotton", kCottonDynamics}};
+  /// Set: the controller plans with this field instead of the twin's (an extended model's
+  /// field_scale, models/extended_model.h); unset: with the twin's field model.
+  std::shared_ptr<const AirFieldModel> planning_field;
   /// Set: the controller sees through the detection pipeline with this calibrated camera
   /// (`--vision`); unset: the twin's truth (fast mode).
   std::optional<CalibratedCamera> vision_camera;

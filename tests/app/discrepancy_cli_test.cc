@@ -149,7 +149,7 @@ TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
   const std::string run = scratch_dir("discrepancy_closed_loop");
   const testing::CliResult c = run_airtwin(
       "run " + std::string(AIRTWIN_SOURCE_DIR) +
-      "/scenes/octagon.yaml --seed 3 --quiet --effect field_scale:factor=1.3 --out " + run);
+      "/scenes/aggregation.yaml --seed 3 --quiet --effect field_scale:factor=1.3 --out " + run);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_closed_loop_blind");
   std::ofstream(blind + "/log.csv") << read_file(run + "/log.csv");
