@@ -57,7 +57,8 @@ void Progress::update(int done) {
     bar = " [" + std::string(filled, '#') + std::string(kWidth - filled, '-') + "]";
   }
   if (terminal_) {
-    std::fprintf(stderr, "\r%s%s %d/%d %s, %.2f %s/%s, %s   ", label_.c_str(), bar.c_str(), done,
+    // Rewrite the line in place and clear what a longer previous line left (ESC [K).
+    std::fprintf(stderr, "\r%s%s %d/%d %s, %.2f %s/%s, %s\033[K", label_.c_str(), bar.c_str(), done,
                  total_, unit_.c_str(), shown_rate, unit_.c_str(), per, left.c_str());
     open_line_ = true;
     if (done >= total_) finish();

@@ -1,10 +1,13 @@
 #include "app/run_setup.h"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <filesystem>
 
 #include "app/cli_common.h"
 #include "common/errors.h"
+#include "models/extended_model.h"
 #include "models/identified_model.h"
 #include "sim/effects.h"
 
@@ -58,6 +61,28 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   apply_effects(effects, &options.twin);
   // The dynamics the controller plans with, per object type.
   for (const std::string& path : f.models) {
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in && looks_like_extended_model(text.str())) {
+      // extended_model.json from 'airtwin discrepancy': its coefficients, and the extensions the
+      // planner uses (field_scale: the table's air speeds scaled); the others are refused, not
+      // dropped, until the planner's fast predictor carries them.
+      const ExtendedModel extended = parse_extended_model_json(text.str(), path);
+      for (const auto& [name, xi] : extended.objects) options.dynamics[name] = xi;
+      for (const std::string& name : active_extensions(extended.extensions)) {
+        if (name != "field_scale") {
+          throw InputError(path + ": the controller does not plan with the " + name +
+                           " extension yet (only field_scale and the coefficients)");
+        }
+      }
+      if (extended.extensions.field_scale != 1.0) {
+        const AirFieldModel base = field_model_of(f);
+        options.planning_field = std::make_shared<const AirFieldModel>(
+            base.geometry(), scaled_field_table(base.table(), extended.extensions.field_scale));
+      }
+      continue;
+    }
     const IdentifiedModel model = read_identified_model(path);
     if (model.object.empty()) {
       throw InputError(path + ": the model names no object type (identify it with --object)");

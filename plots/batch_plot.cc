@@ -177,7 +177,7 @@ void write_histograms_png(const std::string& title, const std::vector<HistogramP
     const auto [v_min, v_max] = std::minmax_element(p.values.begin(), p.values.end());
     double lo = *v_min, hi = *v_max;
     int bins = std::clamp(static_cast<int>(std::ceil(std::sqrt(p.values.size()))), 5, 30);
-    if (!(hi - lo > 1e-12 * std::max(1.0, std::abs(hi)))) {
+    if (!(hi - lo > 1e-4 * std::max(std::abs(lo), std::abs(hi)))) {
       const double half = lo != 0.0 ? 0.05 * std::abs(lo) : 0.5;
       lo -= half;
       hi += half;

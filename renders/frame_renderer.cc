@@ -134,11 +134,15 @@ void FrameRenderer::render_into(const mjData* d, int64_t frame_index, cv::Mat& b
   // The scene from the renderer's mirror of the state, so that MuJoCo writes nothing into `d`.
   mirror_kinematics(s.m, d, s.mirror.get());
   mjv_updateScene(s.m, s.mirror.get(), &s.option, &s.perturb, &s.camera, mjCAT_ALL, &s.scene);
-  // Draw and read back on this thread's context (OpenGL's rows run bottom-up).
-  s.context->make_current();
-  const mjrRect viewport{0, 0, s.context->width_px(), s.context->height_px()};
-  mjr_render(viewport, &s.scene, s.context->mjr());
-  mjr_readPixels(s.rgb_bottom_up.data, nullptr, viewport, s.context->mjr());
+  // Draw and read back on this thread's context (OpenGL's rows run bottom-up), while no other
+  // thread is creating a context.
+  {
+    const auto hold = s.context->gl_use();
+    s.context->make_current();
+    const mjrRect viewport{0, 0, s.context->width_px(), s.context->height_px()};
+    mjr_render(viewport, &s.scene, s.context->mjr());
+    mjr_readPixels(s.rgb_bottom_up.data, nullptr, viewport, s.context->mjr());
+  }
   // To a camera's image: rows top-down, BGR.
   cv::flip(s.rgb_bottom_up, s.rgb, 0);
   cv::cvtColor(s.rgb, bgr, cv::COLOR_RGB2BGR);

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <mutex>
+#include <shared_mutex>
 #include <vector>
 
 #include "common/errors.h"
@@ -13,9 +14,11 @@ namespace airtwin {
 namespace {
 
 // MuJoCo 2.2 fills process-wide GL function pointers in mjr_makeContext; OSMesa's own
-// bookkeeping of new contexts is not documented as thread-safe either. One creation at a time.
-std::mutex& creation_mutex() {
-  static std::mutex m;
+// bookkeeping of new contexts is not documented as thread-safe either. One creation at a time,
+// and no drawing while a creation rewrites those pointers: creation holds this exclusively,
+// drawing (gl_use) shares it.
+std::shared_mutex& gl_mutex() {
+  static std::shared_mutex m;
   return m;
 }
 
@@ -56,6 +59,7 @@ struct OffscreenContext::Impl {
 
   ~Impl() {
     // MuJoCo's GL objects belong to this context: free them with it current.
+    const std::shared_lock hold(gl_mutex());
     if (osmesa && con_made &&
         OSMesaMakeCurrent(osmesa, window.data(), GL_UNSIGNED_BYTE, width, height)) {
       mjr_freeContext(&con);
@@ -86,7 +90,7 @@ OffscreenContext::OffscreenContext(const mjModel* m, int multisamples)
   s.window.assign(static_cast<size_t>(s.width) * s.height * 4, 0);
   mjr_defaultContext(&s.con);
 
-  std::lock_guard<std::mutex> lock(creation_mutex());
+  const std::unique_lock lock(gl_mutex());
   // The OSMesa context: RGBA, 24-bit depth, 8-bit stencil, 8-bit accumulation (what MuJoCo's own
   // OSMesa sample asks for), bound to the calling thread.
   s.osmesa = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8, nullptr);
@@ -122,6 +126,10 @@ OffscreenContext::~OffscreenContext() = default;
 void OffscreenContext::make_current() {
   impl_->bind();
   mjr_setBuffer(mjFB_OFFSCREEN, &impl_->con);
+}
+
+std::shared_lock<std::shared_mutex> OffscreenContext::gl_use() const {
+  return std::shared_lock(gl_mutex());
 }
 
 const mjrContext* OffscreenContext::mjr() const { return &impl_->con; }

@@ -8,9 +8,11 @@
 // OffscreenContext per thread. make_current() binds it to the calling thread (FrameRenderer does
 // this before every frame, so two contexts may also take turns on one thread); using one context
 // from two threads at once is a bug. Contexts in different threads render concurrently (tested in
-// tests/renders/offscreen_context_test.cc). Creation is serialised by a process-wide mutex,
+// tests/renders/offscreen_context_test.cc). Creation is serialised by a process-wide lock,
 // because MuJoCo 2.2 loads its GL function pointers into process-wide globals when it makes a
-// context.
+// context; drawing holds the same lock shared (gl_use), so that no thread calls through those
+// pointers while another thread's creation rewrites them (a batch of --vision runs creates a
+// context per run while other runs draw).
 //
 // Errors. Everything that can be checked before MuJoCo touches GL is checked here and throws
 // RenderError (no OSMesa context, no framebuffer objects) or InputError (a model without an
@@ -22,6 +24,7 @@
 // an argument (FrameRenderer passes 0 by default, see docs/rendering.md).
 
 #include <memory>
+#include <shared_mutex>
 #include <stdexcept>
 #include <string>
 
@@ -53,6 +56,10 @@ class OffscreenContext {
   /// Binds the context to the calling thread and selects MuJoCo's offscreen framebuffer. Throws
   /// RenderError if OSMesa refuses.
   void make_current();
+
+  /// Hold this for the duration of GL calls through MuJoCo (mjr_render, mjr_readPixels, ...):
+  /// shared between drawing threads, exclusive of context creation (see Threading above).
+  std::shared_lock<std::shared_mutex> gl_use() const;
 
   /// MuJoCo's rendering context (valid while this object lives, used on the current thread).
   const mjrContext* mjr() const;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it: installs what is missing, then
-#   1. Release build (-Wall -Wextra) and every test;
+#   1. Release build (-Wall -Wextra) and every test (label slurm too: docs/batch.md);
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer build and the unit-labelled tests.
 # Usage: bash scripts/test.sh [--no-sanitize]
 set -euo pipefail

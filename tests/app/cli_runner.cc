@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/scratch_dir.h"
+
 namespace airtwin::testing {
 namespace {
 
@@ -20,13 +22,7 @@ std::string slurp(const std::string& path) {
 
 }  // namespace
 
-std::string scratch_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("airtwin_test_" + std::to_string(::getpid()) + "_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
+std::string scratch_dir(const std::string& name) { return fresh_scratch_dir(name); }
 
 CliResult run_airtwin(const std::string& args) {
   const std::string dir = scratch_dir("cli_io");

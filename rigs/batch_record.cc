@@ -1,0 +1,105 @@
+#include "rigs/batch_record.h"
+
+#include <nlohmann/json.hpp>
+
+#include "common/errors.h"
+
+namespace airtwin {
+
+using nlohmann::ordered_json;
+
+std::string record_json(const ScenarioRunResult& result, double time_limit_s, double wall_s) {
+  // The summary exactly as `airtwin run` writes it, with the run's wall time after it.
+  ordered_json j = ordered_json::parse(run_summary_json(result, time_limit_s));
+  j["wall_s"] = wall_s;
+  return j.dump(2) + "\n";
+}
+
+std::string failed_record_json(const RunKey& key, int n_objects, double time_limit_s,
+                               const std::string& perception, const std::string& message,
+                               double wall_s) {
+  ordered_json j;
+  j["scenario"] = key.scenario;
+  j["seed"] = key.seed;
+  j["success"] = false;
+  j["completion_time_s"] = nullptr;
+  j["path_error_cm"] = nullptr;
+  j["max_pairwise_distance_cm"] = 0.0;
+  j["objects_in_zone"] = 0;
+  j["n_objects"] = n_objects;
+  j["decisions"] = 0;
+  j["decision_ms"] = {{"mean", 0.0}, {"max", 0.0}};
+  j["end_time_s"] = 0.0;
+  j["time_limit_s"] = time_limit_s;
+  j["perception"] = perception;
+  j["error"] = message;
+  j["wall_s"] = wall_s;
+  return j.dump(2) + "\n";
+}
+
+RunRecord parse_record(const std::string& text, const std::string& source) {
+  const ordered_json j = ordered_json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) {
+    throw InputError(source + ": not a run record (expected a JSON object)");
+  }
+  // Typed access with the key named in the message.
+  std::string key;
+  try {
+    const auto number = [&](const ordered_json& parent, const char* name) {
+      key = name;
+      const ordered_json& v = parent.at(name);
+      if (!v.is_number()) throw InputError(source + ": '" + key + "' must be a number");
+      return v.get<double>();
+    };
+    const auto optional_number = [&](const ordered_json& parent,
+                                     const char* name) -> std::optional<double> {
+      key = name;
+      if (parent.at(name).is_null()) return std::nullopt;
+      return number(parent, name);
+    };
+    RunRecord r;
+    key = "scenario";
+    r.key.scenario = j.at("scenario").get<std::string>();
+    key = "seed";
+    r.key.seed = j.at("seed").get<uint64_t>();
+    key = "success";
+    r.success = j.at("success").get<bool>();
+    r.completion_time_s = optional_number(j, "completion_time_s");
+    key = "path_error_cm";
+    if (!j.at("path_error_cm").is_null()) {
+      const ordered_json& e = j.at("path_error_cm");
+      r.path_error_mean_cm = number(e, "mean");
+      r.path_error_std_cm = number(e, "std");
+      r.path_error_max_cm = number(e, "max");
+    }
+    r.max_pairwise_distance_cm = number(j, "max_pairwise_distance_cm");
+    r.objects_in_zone = static_cast<int>(number(j, "objects_in_zone"));
+    r.n_objects = static_cast<int>(number(j, "n_objects"));
+    r.decisions = static_cast<int64_t>(number(j, "decisions"));
+    r.decision_ms_mean = number(j.at("decision_ms"), "mean");
+    r.decision_ms_max = number(j.at("decision_ms"), "max");
+    r.end_time_s = number(j, "end_time_s");
+    r.time_limit_s = number(j, "time_limit_s");
+    key = "perception";
+    r.perception = j.at("perception").get<std::string>();
+    if (j.contains("vision")) {
+      const ordered_json& v = j.at("vision");
+      r.vision_frames = static_cast<int64_t>(number(v, "frames"));
+      r.vision_frame_ms = number(v, "frame_ms");
+      r.vision_detections = static_cast<int64_t>(number(v, "detections"));
+      r.vision_tracks = static_cast<int64_t>(number(v, "tracks"));
+      r.vision_missed = static_cast<int64_t>(number(v, "missed"));
+      r.vision_merged = static_cast<int64_t>(number(v, "merged"));
+      r.vision_lost = static_cast<int64_t>(number(v, "lost"));
+      r.vision_left_view = static_cast<int64_t>(number(v, "left_view"));
+    }
+    key = "error";
+    if (j.contains("error")) r.error = j.at("error").get<std::string>();
+    r.wall_s = number(j, "wall_s");
+    return r;
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(source + ": run record: '" + key + "' is missing or of the wrong type");
+  }
+}
+
+}  // namespace airtwin

@@ -1,0 +1,52 @@
+// Work items on a few threads: each once, on the threads asked for, and the first failure stops
+// the hand-out and reaches the caller.
+
+#include "common/parallel_for.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace airtwin {
+namespace {
+
+TEST(ParallelFor, EveryItemOnceOnTheThreadsAskedFor) {
+  std::vector<std::atomic<int>> calls(1000);
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  parallel_for(calls.size(), 3, [&](size_t k) {
+    ++calls[k];
+    const std::lock_guard lock(mutex);
+    threads.insert(std::this_thread::get_id());
+  });
+  for (const auto& c : calls) EXPECT_EQ(c, 1);
+  EXPECT_LE(threads.size(), 3u);
+  // One thread: the caller's; no items: no call.
+  const std::thread::id caller = std::this_thread::get_id();
+  parallel_for(4, 1, [&](size_t) { EXPECT_EQ(std::this_thread::get_id(), caller); });
+  bool called = false;
+  parallel_for(0, 4, [&](size_t) { called = true; });
+  EXPECT_FALSE(called);
+}
+
+TEST(ParallelFor, TheFirstFailureStopsTheRestAndIsRethrown) {
+  std::atomic<int> started{0};
+  try {
+    parallel_for(10000, 2, [&](size_t k) {
+      ++started;
+      if (k == 10) throw std::runtime_error("item 10");
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "item 10");
+  }
+  EXPECT_LT(started, 10000);
+}
+
+}  // namespace
+}  // namespace airtwin

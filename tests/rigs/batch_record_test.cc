@@ -1,0 +1,73 @@
+// A run's record: summary.json's fields and the wall time, read back exactly; a twin failure's
+// record; refusal of what is no record.
+
+#include "rigs/batch_record.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "common/errors.h"
+
+namespace airtwin {
+namespace {
+
+TEST(BatchRecord, HoldsTheRunSummaryAndReadsBackExactly) {
+  const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml");
+  ScenarioRunOptions options;
+  options.seed = 2;
+  const ScenarioRunResult r = run_scenario(sc, AirFieldModel::with_default_table(), options);
+  const std::string json = record_json(r, sc.task.time_limit_s, 0.25);
+  // The summary's keys in its order, then the wall time.
+  const auto j = nlohmann::ordered_json::parse(json);
+  const auto summary = nlohmann::ordered_json::parse(run_summary_json(r, sc.task.time_limit_s));
+  auto it = j.begin();
+  for (auto s = summary.begin(); s != summary.end(); ++s, ++it) {
+    EXPECT_EQ(it.key(), s.key());
+    EXPECT_EQ(it.value(), s.value());
+  }
+  EXPECT_EQ(it.key(), "wall_s");
+
+  const RunRecord rec = parse_record(json, "r.json");
+  EXPECT_EQ(rec.key, (RunKey{"line", 2}));
+  EXPECT_EQ(rec.success, r.loop.success);
+  ASSERT_TRUE(rec.completion_time_s.has_value());
+  EXPECT_EQ(*rec.completion_time_s, *r.loop.completion_time_s);  // bit for bit
+  EXPECT_EQ(*rec.path_error_mean_cm, 100.0 * r.path_error_m.mean);
+  EXPECT_EQ(*rec.path_error_max_cm, 100.0 * r.path_error_m.max);
+  EXPECT_EQ(rec.decisions, static_cast<int64_t>(r.loop.decisions.size()));
+  EXPECT_EQ(rec.end_time_s, r.loop.end_time_s);
+  EXPECT_EQ(rec.time_limit_s, sc.task.time_limit_s);
+  EXPECT_EQ(rec.perception, "truth");
+  EXPECT_EQ(rec.wall_s, 0.25);
+  EXPECT_TRUE(rec.error.empty());
+}
+
+TEST(BatchRecord, ATwinFailureIsAFailedRunWithItsMessage) {
+  const std::string json =
+      failed_record_json({"octagon", 9}, 4, 400.0, "truth", "object t2: NaN at t = 3.1 s", 1.5);
+  const RunRecord rec = parse_record(json, "r.json");
+  EXPECT_EQ(rec.key, (RunKey{"octagon", 9}));
+  EXPECT_FALSE(rec.success);
+  EXPECT_FALSE(rec.completion_time_s.has_value());
+  EXPECT_FALSE(rec.path_error_mean_cm.has_value());
+  EXPECT_EQ(rec.n_objects, 4);
+  EXPECT_EQ(rec.error, "object t2: NaN at t = 3.1 s");
+}
+
+TEST(BatchRecord, RefusesWhatIsNoRecordNamingTheKey) {
+  EXPECT_THROW(parse_record("{\"scenario\": \"li", "r.json"), InputError);
+  EXPECT_THROW(parse_record("[1, 2]", "r.json"), InputError);
+  std::string json = failed_record_json({"line", 1}, 1, 120.0, "truth", "x", 1.0);
+  json.replace(json.find("\"wall_s\""), 8, "\"wall\"");
+  try {
+    parse_record(json, "r.json");
+    FAIL() << "accepted a record without wall_s";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("r.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("wall_s"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace airtwin
