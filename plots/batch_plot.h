@@ -37,8 +37,8 @@ struct HistogramPanel {
 
 /// Writes a PNG of the panels side by side (560 x 420 px each) under `title`: counts of runs in
 /// clamp(ceil(sqrt(n)), 5, 30) equal bins over [smallest, largest] value (values that agree to
-/// 1e-4 of their size, or a single value: one bin around them). A panel without values shows "no data". Throws InputError as
-/// write_box_plot_png.
+/// 1e-4 of their size, or a single value: one bin around them). A panel without values shows "no
+/// data". Throws InputError as write_box_plot_png.
 void write_histograms_png(const std::string& title, const std::vector<HistogramPanel>& panels,
                           const std::string& path);
 

@@ -20,7 +20,6 @@
 namespace airtwin::plots {
 namespace {
 
-
 std::string out_path(const std::string& name) {
   static const std::string dir = airtwin::testing::fresh_scratch_dir("batch_plot");
   return dir + "/" + name + ".png";

@@ -11,9 +11,9 @@
 
 #include "common/csv.h"
 #include "common/errors.h"
-#include "tests/support/scratch_dir.h"
 #include "rigs/batch_report.h"
 #include "sim/scene_builder.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/vision/twin_frames.h"
 
 namespace airtwin {
