@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -13,6 +12,7 @@
 #include <unsupported/Eigen/LevenbergMarquardt>
 
 #include "common/errors.h"
+#include "common/parallel_for.h"
 #include "common/random_stream.h"
 #include "common/units.h"
 #include "models/extended_predictor.h"
@@ -116,11 +116,6 @@ WindowSet make_windows(const TrajectorySet& set,
       // The field's orientation moves inside the window, or within a plausible lag before it.
       w.command_changes = !timeline->at_rest_between(w.start.t_s - o.nozzle.transit_delay_s - 1.5,
                                                      s[i1].t_s);
-      for (const TimedCommand& c : commands) {
-        if (c.t_s > w.start.t_s - 1.5 && c.t_s <= s[i1].t_s && &c != &commands.front()) {
-          w.command_changes = true;
-        }
-      }
       ws.windows.push_back(std::move(w));
       i0 = i1;
     }
@@ -197,27 +192,11 @@ class Evaluator {
         sc.predicted_travel_m = (predicted.back() - w.start.p_W).norm();
       }
     };
+    // Windows in contiguous chunks, one per thread: each window's figures are its own, so the
+    // result does not depend on the thread count.
     const size_t n = which.size();
     const size_t t = std::min<size_t>(threads_, std::max<size_t>(1, n / 4));
-    if (t <= 1) {
-      work(0, n);
-      return;
-    }
-    std::vector<std::thread> pool;
-    std::vector<std::exception_ptr> errors(t);
-    for (size_t j = 0; j < t; ++j) {
-      pool.emplace_back([&, j] {
-        try {
-          work(n * j / t, n * (j + 1) / t);
-        } catch (...) {
-          errors[j] = std::current_exception();
-        }
-      });
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
+    parallel_for(t, static_cast<int>(t), [&](size_t j) { work(n * j / t, n * (j + 1) / t); });
   }
 
   size_t residual_count(const std::vector<size_t>& which) const {

@@ -1,13 +1,13 @@
 #include "sim/collection.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <exception>
 #include <mutex>
 #include <thread>
 
 #include "common/errors.h"
+#include "common/parallel_for.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
 #include "common/random_stream.h"
@@ -118,35 +118,17 @@ TrajectorySet run_collection(const CollectionOptions& o, const AirFieldModel& fi
   TrajectorySet set;
   set.trajectories.resize(plan.size());
 
-  int threads = o.threads == 0 ? static_cast<int>(std::thread::hardware_concurrency()) : o.threads;
-  threads = std::clamp(threads, 1, n);
-  std::atomic<int> next{0};
-  std::mutex mutex;  // guards done, first_error and the progress callback
+  const int threads =
+      o.threads == 0 ? static_cast<int>(std::thread::hardware_concurrency()) : o.threads;
+  std::mutex mutex;  // guards done and the progress callback
   int done = 0;
-  std::exception_ptr first_error;
-  auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
-      try {
-        Trajectory tr = run_collection_trial(plan[i], o, field);
-        const std::lock_guard lock(mutex);
-        set.trajectories[i] = std::move(tr);
-        ++done;
-        if (progress) progress(done, n);
-      } catch (...) {
-        const std::lock_guard lock(mutex);
-        if (!first_error) first_error = std::current_exception();
-        next = n;  // stop handing out trials
-      }
-    }
-  };
-  if (threads == 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (std::thread& t : pool) t.join();
-  }
-  if (first_error) std::rethrow_exception(first_error);
+  parallel_for(plan.size(), threads, [&](size_t i) {
+    Trajectory tr = run_collection_trial(plan[i], o, field);
+    const std::lock_guard lock(mutex);
+    set.trajectories[i] = std::move(tr);
+    ++done;
+    if (progress) progress(done, n);
+  });
   return set;
 }
 

@@ -74,6 +74,19 @@ TEST(RunCli, BadInputIsOneClearLine) {
   }
   // Flags are checked before anything is written.
   EXPECT_FALSE(std::ifstream(d + "/o/summary.json").good());
+
+  // An extended model with an extension the planner does not carry is refused, not dropped.
+  std::ofstream(d + "/ext.json")
+      << R"({"format": "airtwin-extended-model", "version": 1,
+             "objects": {"tracer": {"xi1": -2.66, "xi2": 4.26, "xi3": -8.53}},
+             "nozzle_response": {"max_speed_radps": 7, "max_acceleration_radps2": 30,
+                                 "transit_delay_s": 0.2},
+             "extensions": {"floor_slope": {"angle_deg": 3, "direction_deg": 0}}})";
+  const auto ext = run_airtwin(line + "--model " + d + "/ext.json");
+  EXPECT_EQ(ext.exit_code, 1);
+  EXPECT_EQ(count_lines(ext.err), 1) << ext.err;
+  EXPECT_NE(ext.err.find("does not plan with the floor_slope extension"), std::string::npos)
+      << ext.err;
 }
 
 }  // namespace

@@ -62,6 +62,28 @@ TEST(Collection, TrialsRecordTwoSecondsAtFortyHertzUnderTheTargetCommand) {
   EXPECT_LT((tr.samples.front().p_W - plan[1].start_W).norm(), 0.002);
 }
 
+TEST(Collection, LeadInRecordsTheIdleCommandBeforeTheReAimAndChangesNothingAfter) {
+  CollectionOptions o = quick_options();
+  const AirFieldModel field = AirFieldModel::with_default_table();
+  const std::vector<CollectionTrial> plan = plan_collection(o);
+  const Trajectory plain = run_collection_trial(plan[1], o, field);
+  o.lead_in_s = 0.25;
+  const Trajectory lead = run_collection_trial(plan[1], o, field);
+  ASSERT_EQ(lead.samples.size(), plain.samples.size() + 10);
+  for (size_t k = 0; k < 10; ++k) {
+    EXPECT_DOUBLE_EQ(lead.samples[k].t_s, (static_cast<double>(k) - 10.0) / 40.0);
+    EXPECT_EQ(lead.samples[k].nozzle.pan_rad, o.idle.pan_rad);
+    EXPECT_EQ(lead.samples[k].nozzle.tilt_rad, o.idle.tilt_rad);
+  }
+  // Recording does not touch the physics: from the re-aim on, the same trajectory.
+  for (size_t k = 0; k < plain.samples.size(); ++k) {
+    EXPECT_EQ(lead.samples[k + 10].t_s, plain.samples[k].t_s);
+    EXPECT_EQ(lead.samples[k + 10].p_W, plain.samples[k].p_W);
+  }
+  o.lead_in_s = o.wait_s + 1.0;
+  EXPECT_THROW(o.validate(), UsageError);
+}
+
 TEST(Collection, SameSeedSameBytesWhateverTheThreadCount) {
   CollectionOptions o = quick_options();
   const AirFieldModel field = AirFieldModel::with_default_table();
