@@ -65,18 +65,24 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
     std::ostringstream text;
     text << in.rdbuf();
     if (in && looks_like_extended_model(text.str())) {
-      // extended_model.json from 'airtwin discrepancy': its coefficients, and the extensions the
-      // planner uses (field_scale: the table's air speeds scaled); the others are refused, not
-      // dropped, until the planner's fast predictor carries them.
+      // extended_model.json from 'airtwin discrepancy': its coefficients and its extensions.
+      // field_scale alone keeps the fast predictor on a table with the air speeds scaled; any
+      // other extension makes the controller predict with the extended model and its nozzle
+      // response (controller/cem_planner.h).
       const ExtendedModel extended = parse_extended_model_json(text.str(), path);
       for (const auto& [name, xi] : extended.objects) options.dynamics[name] = xi;
+      bool beyond_scale = false;
       for (const std::string& name : active_extensions(extended.extensions)) {
-        if (name != "field_scale") {
-          throw InputError(path + ": the controller does not plan with the " + name +
-                           " extension yet (only field_scale and the coefficients)");
-        }
+        beyond_scale = beyond_scale || name != "field_scale";
       }
-      if (extended.extensions.field_scale != 1.0) {
+      options.planning_field.reset();
+      options.planning_extensions.reset();
+      if (beyond_scale) {
+        ExtendedPlanning planning;
+        planning.extensions = extended.extensions;
+        planning.response = extended.nozzle;
+        options.planning_extensions = planning;
+      } else if (extended.extensions.field_scale != 1.0) {
         const AirFieldModel base = field_model_of(f);
         options.planning_field = std::make_shared<const AirFieldModel>(
             base.geometry(), scaled_field_table(base.table(), extended.extensions.field_scale));

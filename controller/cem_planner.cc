@@ -57,9 +57,15 @@ void CemParameters::validate(const std::string& source) const {
 }
 
 CemPlanner::CemPlanner(const AirFieldModel& model, const CemParameters& params,
-                       const FastPredictor::Options& predictor_options)
-    : model_(model), params_(params), predictor_(predictor_options) {
+                       const FastPredictor::Options& predictor_options,
+                       std::optional<ExtendedPlanning> extended)
+    : model_(model), params_(params), predictor_(predictor_options), extended_(extended) {
   params_.validate("controller");
+  if (extended_) {
+    extended_->extensions.validate();
+    extended_->response.validate();
+    extended_predictor_.emplace(model_, extended_->step_s);
+  }
 }
 
 namespace {
@@ -68,7 +74,40 @@ namespace {
 struct Scratch {
   std::vector<ObjectState> start;
   Prediction prediction;
+  // Extended planning.
+  std::vector<WindowStart> window_start;
+  std::vector<Eigen::Vector2d> end_W;
 };
+
+// The command that puts the air where `aim` would with the servos' offset compensated: the
+// servos turn to command + offset (the rig takes tilts from 0 up; pan wraps).
+NozzleOrientation compensated_command(const NozzleOrientation& aim, const ModelExtensions& ext) {
+  NozzleOrientation c;
+  c.pan_rad = wrap_angle(aim.pan_rad - ext.pan_offset_rad);
+  c.tilt_rad = std::max(0.0, aim.tilt_rad - ext.tilt_offset_rad);
+  return c;
+}
+
+// The end positions under the extended model for the command `command`, issued now.
+void predict_extended(const ExtendedPlanning& ext, const ExtendedPredictor& predictor,
+                      const CemParameters& params, const PlanningProblem& pr,
+                      const NozzleOrientation& command, Scratch& scratch) {
+  const size_t m = pr.positions_W.size();
+  // Until the new field has acted for Delta T: the transit and any extra delay come first.
+  const double t_end =
+      params.horizon_s + ext.response.transit_delay_s + ext.extensions.extra_delay_s;
+  std::vector<TimedCommand> commands;
+  if (pr.nozzle_now) commands.push_back({-1.0, *pr.nozzle_now});
+  commands.push_back({0.0, command});
+  const NozzleTimeline timeline(ext.response, commands, t_end);
+  scratch.window_start.resize(m);
+  for (size_t j = 0; j < m; ++j) {
+    scratch.window_start[j] = WindowStart{0.0, pr.positions_W[j], pr.velocities_W[j]};
+  }
+  scratch.end_W.resize(m);
+  predictor.predict_ends(pr.dynamics, ext.extensions, timeline, scratch.window_start, t_end,
+                         scratch.end_W);
+}
 
 void check_problem(const PlanningProblem& pr) {
   const size_t m = pr.positions_W.size();
@@ -88,8 +127,16 @@ void check_problem(const PlanningProblem& pr) {
   }
 }
 
-// eq. (10) for candidate s, with the predictor's scratch.
-double evaluate(const AirFieldModel& model, const FastPredictor& predictor,
+// The planner's predictors: the fast one of eqs. (8)-(9), or the extended model's.
+struct Predictors {
+  const FastPredictor& fast;
+  const ExtendedPlanning* extended = nullptr;
+  const ExtendedPredictor* extended_predictor = nullptr;
+};
+
+// eq. (10) for candidate s, with the predictor's scratch; the end positions land in
+// scratch.end_W.
+double evaluate(const AirFieldModel& model, const Predictors& predictors,
                 const CemParameters& params, const PlanningProblem& pr,
                 const Eigen::Vector2d& s_W, Scratch& scratch, NozzleOrientation* orientation,
                 bool* feasible) {
@@ -104,6 +151,17 @@ double evaluate(const AirFieldModel& model, const FastPredictor& predictor,
   // A stagnation point the nozzle cannot produce is no better than one too close to an object.
   const AimResult aim = aim_at_stagnation(model.geometry(), s_W, pr.pan_hint_rad);
   if (!aim.reachable()) return params.penalty;
+  if (predictors.extended != nullptr) {
+    const NozzleOrientation command =
+        compensated_command(*aim.orientation, predictors.extended->extensions);
+    if (orientation != nullptr) *orientation = command;
+    predict_extended(*predictors.extended, *predictors.extended_predictor, params, pr, command,
+                     scratch);
+    double sum = 0.0;
+    for (size_t j = 0; j < m; ++j) sum += (scratch.end_W[j] - pr.references_W[j]).norm();
+    *feasible = true;
+    return sum;
+  }
   if (orientation != nullptr) *orientation = *aim.orientation;
   const OrientedField field = model.at(*aim.orientation);
   // eq. (9): each object moves radially away from s; its present speed along that ray carries
@@ -119,13 +177,20 @@ double evaluate(const AirFieldModel& model, const FastPredictor& predictor,
   }
   PredictionOptions options;
   options.horizon_s = params.horizon_s;
-  predictor.predict(field, pr.dynamics, scratch.start, options, scratch.prediction);
+  predictors.fast.predict(field, pr.dynamics, scratch.start, options, scratch.prediction);
+  scratch.end_W.resize(m);
   double sum = 0.0;
   for (size_t j = 0; j < m; ++j) {
-    sum += (scratch.prediction.end[j].p_W - pr.references_W[j]).norm();
+    scratch.end_W[j] = scratch.prediction.end[j].p_W;
+    sum += (scratch.end_W[j] - pr.references_W[j]).norm();
   }
   *feasible = true;
   return sum;
+}
+
+Predictors predictors_of(const FastPredictor& fast, const std::optional<ExtendedPlanning>& ext,
+                        const std::optional<ExtendedPredictor>& ext_predictor) {
+  return Predictors{fast, ext ? &*ext : nullptr, ext_predictor ? &*ext_predictor : nullptr};
 }
 
 }  // namespace
@@ -133,13 +198,15 @@ double evaluate(const AirFieldModel& model, const FastPredictor& predictor,
 double CemPlanner::cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
                         std::vector<Eigen::Vector2d>* end_W) const {
   check_problem(problem);
+  const Predictors preds = predictors_of(predictor_, extended_, extended_predictor_);
   Scratch scratch;
   bool feasible = false;
-  const double j = evaluate(model_, predictor_, params_, problem, s_W, scratch, nullptr, &feasible);
+  const double j = evaluate(model_, preds, params_, problem, s_W, scratch, nullptr,
+                            &feasible);
   if (end_W != nullptr) {
     end_W->clear();
     if (feasible) {
-      for (const auto& e : scratch.prediction.end) end_W->push_back(e.p_W);
+      *end_W = scratch.end_W;
     } else {
       end_W->assign(problem.positions_W.begin(), problem.positions_W.end());
     }
@@ -149,6 +216,7 @@ double CemPlanner::cost(const PlanningProblem& problem, const Eigen::Vector2d& s
 
 PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) const {
   check_problem(problem);
+  const Predictors preds = predictors_of(predictor_, extended_, extended_predictor_);
   const size_t m = problem.positions_W.size();
   const CemParameters& p = params_;
   const int n = p.samples;
@@ -208,7 +276,7 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
       const double w1 = p.search == CemSearch::kPlane ? rng.normal() : 0.0;
       z[i] = mu + Eigen::Vector2d(l00 * w0, l10 * w0 + l11 * w1);
       bool feasible = false;
-      costs[i] = evaluate(model_, predictor_, p, problem, to_point(z[i]), scratch, nullptr,
+      costs[i] = evaluate(model_, preds, p, problem, to_point(z[i]), scratch, nullptr,
                           &feasible);
       result.evaluations += feasible ? 1 : 0;
       if (costs[i] < best_cost) {
@@ -244,10 +312,10 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   NozzleOrientation orientation;
   bool feasible = false;
   Eigen::Vector2d s = to_point(mu);
-  double j = evaluate(model_, predictor_, p, problem, s, scratch, &orientation, &feasible);
+  double j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
   if (!feasible && best_cost < p.penalty) {
     s = to_point(best_z);
-    j = evaluate(model_, predictor_, p, problem, s, scratch, &orientation, &feasible);
+    j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
   }
   if (!feasible) {
     // Nothing feasible: hold s where the nozzle can put it, as far out along the search as the
@@ -255,7 +323,10 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     const double r_max = 0.999 * max_stagnation_radius(model_.geometry());
     if (s.norm() > r_max) s *= r_max / s.norm();
     const AimResult aim = aim_at_stagnation(model_.geometry(), s, problem.pan_hint_rad);
-    if (aim.reachable()) orientation = *aim.orientation;
+    if (aim.reachable()) {
+      orientation = extended_ ? compensated_command(*aim.orientation, extended_->extensions)
+                              : *aim.orientation;
+    }
     j = p.penalty;
   }
   result.stagnation_W = s;
@@ -263,8 +334,7 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   result.cost = j;
   result.predicted_end_W.resize(m);
   for (size_t k = 0; k < m; ++k) {
-    result.predicted_end_W[k] =
-        feasible ? scratch.prediction.end[k].p_W : problem.positions_W[k];
+    result.predicted_end_W[k] = feasible ? scratch.end_W[k] : problem.positions_W[k];
   }
   return result;
 }

@@ -20,16 +20,29 @@
 //
 // Candidates the nozzle cannot produce (beyond the tilt range) cost J_P, like those too close to
 // an object. Deterministic: the samples come from a RandomStream the caller seeds.
+//
+// Extended planning (an extended model from `airtwin discrepancy`, models/extended_model.h): the
+// trajectories are predicted with models/extended_predictor.h instead, under the model's
+// extensions and the nozzle's response. The new command takes over from the previous one through
+// the servos and the field's delay (models/nozzle_response.h), the objects start from their full
+// observed velocity, and the prediction runs until the new field has acted for Delta T (to
+// Delta T plus the transit and any response_delay). A nozzle_offset is compensated: the command
+// is the aim of eqs. (1)-(2) minus the offset (tilt no lower than 0), and the prediction sees
+// where the air then goes.
 
 #include <Eigen/Core>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "common/random_stream.h"
 #include "models/air_field.h"
+#include "models/extended_predictor.h"
 #include "models/fast_predictor.h"
+#include "models/model_extensions.h"
 #include "models/nozzle_geometry.h"
+#include "models/nozzle_response.h"
 #include "models/object_dynamics.h"
 #include "models/trajectory_predictor.h"
 
@@ -65,6 +78,13 @@ struct CemParameters {
   void validate(const std::string& source) const;
 };
 
+/// Planning with an extended model instead of eqs. (8)-(9) (see the top of this file).
+struct ExtendedPlanning {
+  ModelExtensions extensions;         ///< what the model adds (SI)
+  NozzleResponseParameters response;  ///< the servos and the transit the model assumes
+  double step_s = 2e-3;               ///< the extended predictor's step (s)
+};
+
 /// One decision's inputs.
 struct PlanningProblem {
   std::span<const Eigen::Vector2d> positions_W;  ///< p_j^init (m)
@@ -77,6 +97,9 @@ struct PlanningProblem {
   int anchor = -1;
   /// Current nozzle pan (rad): the pan used for s at the origin.
   double pan_hint_rad = 0.0;
+  /// Extended planning only: the command the nozzle rests at now (the previous decision's);
+  /// unset, the nozzle is taken to be at the new command already.
+  std::optional<NozzleOrientation> nozzle_now;
 };
 
 struct PlanResult {
@@ -92,9 +115,11 @@ struct PlanResult {
 
 class CemPlanner {
  public:
-  /// `model` must outlive the planner. Throws InputError for invalid parameters.
+  /// `model` must outlive the planner. With `extended`, trajectories are predicted with the
+  /// extended model (see above). Throws InputError for invalid parameters.
   CemPlanner(const AirFieldModel& model, const CemParameters& params,
-             const FastPredictor::Options& predictor_options = {});
+             const FastPredictor::Options& predictor_options = {},
+             std::optional<ExtendedPlanning> extended = std::nullopt);
 
   /// One decision. Throws InputError when sizes differ, nothing is to be planned (no objects) or
   /// a value is not finite. When no candidate is feasible the result has cost J_P and the
@@ -106,11 +131,14 @@ class CemPlanner {
               std::vector<Eigen::Vector2d>* end_W = nullptr) const;
 
   const CemParameters& parameters() const { return params_; }
+  const std::optional<ExtendedPlanning>& extended() const { return extended_; }
 
  private:
   const AirFieldModel& model_;
   CemParameters params_;
   FastPredictor predictor_;
+  std::optional<ExtendedPlanning> extended_;
+  std::optional<ExtendedPredictor> extended_predictor_;
 };
 
 }  // namespace airtwin

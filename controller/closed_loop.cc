@@ -10,8 +10,8 @@ namespace airtwin {
 
 Controller::Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
                        std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
-                       double forget_after_s)
-    : planner_(model, cem),
+                       double forget_after_s, std::optional<ExtendedPlanning> extended)
+    : planner_(model, cem, FastPredictor::Options{}, std::move(extended)),
       progress_(task),
       dynamics_(std::move(dynamics_by_type)),
       rng_(seed, RandomPurpose::kController, 0),
@@ -73,12 +73,14 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   problem.dynamics = xi;
   problem.references_W = r;
   problem.pan_hint_rad = pan_hint_rad;
+  problem.nozzle_now = last_command_;
 
   DecisionRecord record;
   const auto start = std::chrono::steady_clock::now();
   record.plan = planner_.plan(problem, rng_);
   record.decision_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  last_command_ = record.plan.orientation;
   record.t_s = last_t_s_;
   record.reference_index = progress_.reference_index();
   // The reference of the object farthest from its own: the one the line search anchors on.

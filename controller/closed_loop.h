@@ -39,12 +39,18 @@ class Controller {
  public:
   /// `dynamics_by_type`: eq. (8) coefficients per object type (an observed type without an entry
   /// is an InputError at the first decision). `model` must outlive the controller.
+  /// With `extended`, the planner predicts with an extended model (controller/cem_planner.h)
+  /// and knows each new command follows the previous one.
   Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
              std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
-             double forget_after_s = 3.0);
+             double forget_after_s = 3.0,
+             std::optional<ExtendedPlanning> extended = std::nullopt);
 
   /// Takes an observation: remembers the objects, updates the task; returns true when done.
   bool observe(const Observation& observation);
+  /// Tells the controller the command the nozzle rests at before its first decision (extended
+  /// planning predicts the change from it; the default is none: already at the new command).
+  void assume_nozzle(const NozzleOrientation& command) { last_command_ = command; }
   /// The next decision from what is known (call after observe() returned false).
   DecisionRecord decide(double pan_hint_rad);
 
@@ -62,6 +68,7 @@ class Controller {
   double forget_after_s_;
   double last_t_s_ = 0.0;
   int last_observed_ = 0;
+  std::optional<NozzleOrientation> last_command_;
 };
 
 struct LoopOptions {

@@ -32,6 +32,92 @@ NozzleOrientation ExtendedPredictor::field_orientation(const ModelExtensions& ex
   return o;
 }
 
+namespace {
+
+// The catalogue's forces without friction, for one set of extensions and coefficients.
+struct Pull {
+  Pull(const ObjectDynamics& xi, const ModelExtensions& ext)
+      : xi(xi),
+        ext(ext),
+        cos_d(std::cos(ext.deflection_rad)),
+        sin_d(std::sin(ext.deflection_rad)),
+        slope(kGravity * std::sin(ext.slope_rad) *
+              Eigen::Vector2d(std::cos(ext.slope_direction_rad),
+                              std::sin(ext.slope_direction_rad))),
+        push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {}
+
+  // The acceleration without friction at (p, v) in `field`.
+  Eigen::Vector2d operator()(const OrientedField& field, const Eigen::Vector2d& p,
+                             const Eigen::Vector2d& v) const {
+    const Eigen::Vector2d u0 = field.velocity(p);
+    const Eigen::Vector2d u =
+        ext.field_scale *
+        Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(), sin_d * u0.x() + cos_d * u0.y());
+    Eigen::Vector2d a = xi.xi1 * v + xi.xi2 * u + slope;
+    if (ext.quadratic_drag_per_m != 0.0) {
+      const Eigen::Vector2d rel = u - v;
+      a += ext.quadratic_drag_per_m * rel.norm() * rel;
+    }
+    if (push_scale != 0.0) {
+      const Eigen::Vector2d d = p - field.stagnation_point();
+      const double r = d.norm();
+      if (r > 0.0) {
+        const double x = r / ext.push_length_m;
+        a += (push_scale * x * std::exp(-x * x) / r) * d;
+      }
+    }
+    return a;
+  }
+
+  const ObjectDynamics& xi;
+  const ModelExtensions& ext;
+  double cos_d, sin_d;
+  Eigen::Vector2d slope;
+  double push_scale;
+};
+
+// One object's state and its semi-implicit Euler step with Coulomb friction.
+struct Mover {
+  Mover(const Pull& pull, const Eigen::Vector2d& p0, const Eigen::Vector2d& v0)
+      : pull(pull),
+        kinetic(-pull.xi.xi3),
+        static_pull(pull.ext.static_friction_ratio * kinetic),
+        p(p0),
+        v(v0),
+        moving(v0.squaredNorm() > 0.0) {}
+
+  void step(const OrientedField& field, double h) {
+    if (moving) {
+      const Eigen::Vector2d v_new = v + h * pull(field, p, v);
+      const double speed = v_new.norm();
+      const double friction = h * kinetic;
+      if (speed <= friction) {
+        v.setZero();  // friction would reverse it: the object stops
+        moving = false;
+      } else {
+        v = v_new * (1.0 - friction / speed);
+        p += h * v;
+      }
+    } else {
+      const Eigen::Vector2d a0 = pull(field, p, Eigen::Vector2d::Zero());
+      const double a0_norm = a0.norm();
+      if (a0_norm > static_pull) {
+        v = h * (a0_norm - kinetic) / a0_norm * a0;
+        p += h * v;
+        moving = true;
+      }
+    }
+  }
+
+  const Pull& pull;
+  double kinetic;      // |xi3|: kinetic friction deceleration (m/s^2)
+  double static_pull;  // the pull that starts an object at rest (m/s^2)
+  Eigen::Vector2d p, v;
+  bool moving;
+};
+
+}  // namespace
+
 void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions& ext,
                                 const NozzleTimeline& timeline, const WindowStart& start,
                                 std::span<const double> times_s,
@@ -51,45 +137,14 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   positions->assign(times_s.size(), start.p_W);
   if (times_s.empty()) return;
 
-  const double kinetic = -xi.xi3;  // |xi3|: kinetic friction deceleration (m/s^2)
-  const double static_pull = ext.static_friction_ratio * kinetic;
-  const double cos_d = std::cos(ext.deflection_rad), sin_d = std::sin(ext.deflection_rad);
-  const Eigen::Vector2d slope =
-      kGravity * std::sin(ext.slope_rad) *
-      Eigen::Vector2d(std::cos(ext.slope_direction_rad), std::sin(ext.slope_direction_rad));
-  const double push_scale = ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale;
-
   NozzleOrientation cached = field_orientation(ext, timeline, start.t_s);
   OrientedField field = field_.at(cached);
-
-  // The acceleration without friction at (p, v) in `field`.
-  auto pull = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& v) {
-    const Eigen::Vector2d u0 = field.velocity(p);
-    const Eigen::Vector2d u =
-        ext.field_scale * Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(),
-                                          sin_d * u0.x() + cos_d * u0.y());
-    Eigen::Vector2d a = xi.xi1 * v + xi.xi2 * u + slope;
-    if (ext.quadratic_drag_per_m != 0.0) {
-      const Eigen::Vector2d rel = u - v;
-      a += ext.quadratic_drag_per_m * rel.norm() * rel;
-    }
-    if (push_scale != 0.0) {
-      const Eigen::Vector2d d = p - field.stagnation_point();
-      const double r = d.norm();
-      if (r > 0.0) {
-        const double x = r / ext.push_length_m;
-        a += (push_scale * x * std::exp(-x * x) / r) * d;
-      }
-    }
-    return a;
-  };
-
-  Eigen::Vector2d p = start.p_W, v = start.v_W;
-  bool moving = v.squaredNorm() > 0.0;
+  const Pull pull(xi, ext);
+  Mover object(pull, start.p_W, start.v_W);
   double t = start.t_s;
   const double h = step_;
   size_t next = 0;
-  while (next < times_s.size() && times_s[next] <= t) (*positions)[next++] = p;
+  while (next < times_s.size() && times_s[next] <= t) (*positions)[next++] = object.p;
   while (next < times_s.size()) {
     // The field follows the nozzle: rebuild it when the orientation it follows has changed.
     const NozzleOrientation o = field_orientation(ext, timeline, t);
@@ -97,31 +152,72 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
       cached = o;
       field = field_.at(o);
     }
-    const Eigen::Vector2d p_old = p;
-    if (moving) {
-      Eigen::Vector2d v_new = v + h * pull(p, v);
-      const double speed = v_new.norm();
-      const double friction = h * kinetic;
-      if (speed <= friction) {
-        v.setZero();  // friction would reverse it: the object stops
-        moving = false;
-      } else {
-        v = v_new * (1.0 - friction / speed);
-        p += h * v;
-      }
-    } else {
-      const Eigen::Vector2d a0 = pull(p, Eigen::Vector2d::Zero());
-      const double a0_norm = a0.norm();
-      if (a0_norm > static_pull) {
-        v = h * (a0_norm - kinetic) / a0_norm * a0;
-        p += h * v;
-        moving = true;
-      }
-    }
+    const Eigen::Vector2d p_old = object.p;
+    object.step(field, h);
     const double t_new = t + h;
     while (next < times_s.size() && times_s[next] <= t_new) {
       const double f = (times_s[next] - t) / h;
-      (*positions)[next++] = p_old + f * (p - p_old);
+      (*positions)[next++] = p_old + f * (object.p - p_old);
+    }
+    t = t_new;
+  }
+}
+
+void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi,
+                                     const ModelExtensions& ext, const NozzleTimeline& timeline,
+                                     std::span<const WindowStart> starts, double t_end_s,
+                                     std::span<Eigen::Vector2d> ends) const {
+  ext.validate();
+  if (xi.size() != starts.size() || ends.size() != starts.size()) {
+    throw InputError("extended predictor: coefficients, starts and ends differ in number");
+  }
+  if (starts.empty()) return;
+  const double t0 = starts[0].t_s;
+  for (const WindowStart& s : starts) {
+    if (!(std::isfinite(s.t_s) && s.p_W.allFinite() && s.v_W.allFinite())) {
+      throw InputError("extended predictor: a start state is not finite");
+    }
+    if (s.t_s != t0) throw InputError("extended predictor: the objects start at different times");
+  }
+  if (!(std::isfinite(t_end_s) && t_end_s >= t0)) {
+    throw InputError("extended predictor: the end time must be finite and not before the start");
+  }
+  // Every object's pull and state, side by side (a decision has tens of objects at most).
+  std::vector<Pull> pulls;
+  pulls.reserve(starts.size());
+  for (size_t j = 0; j < starts.size(); ++j) pulls.emplace_back(xi[j], ext);
+  std::vector<Mover> objects;
+  objects.reserve(starts.size());
+  for (size_t j = 0; j < starts.size(); ++j) objects.emplace_back(pulls[j], starts[j].p_W, starts[j].v_W);
+  std::vector<Eigen::Vector2d> p_old(starts.size());
+
+  NozzleOrientation cached = field_orientation(ext, timeline, t0);
+  OrientedField field = field_.at(cached);
+  double t = t0;
+  const double h = step_;
+  if (t_end_s <= t) {
+    for (size_t j = 0; j < objects.size(); ++j) ends[j] = objects[j].p;
+    return;
+  }
+  // The same steps as predict(), all objects under one field per step, and the same
+  // interpolation inside the last step.
+  while (true) {
+    const NozzleOrientation o = field_orientation(ext, timeline, t);
+    if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
+      cached = o;
+      field = field_.at(o);
+    }
+    for (size_t j = 0; j < objects.size(); ++j) {
+      p_old[j] = objects[j].p;
+      objects[j].step(field, h);
+    }
+    const double t_new = t + h;
+    if (t_end_s <= t_new) {
+      const double f = (t_end_s - t) / h;
+      for (size_t j = 0; j < objects.size(); ++j) {
+        ends[j] = p_old[j] + f * (objects[j].p - p_old[j]);
+      }
+      return;
     }
     t = t_new;
   }

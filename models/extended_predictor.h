@@ -51,6 +51,15 @@ class ExtendedPredictor {
                const WindowStart& start, std::span<const double> times_s,
                std::vector<Eigen::Vector2d>* positions) const;
 
+  /// The end positions at `t_end_s` of several objects that start together (every start at the
+  /// same t_s) under one timeline: each object's result is the same as predict() with the one
+  /// sample time t_end_s would give, at a fraction of the cost (the field is rebuilt once per
+  /// orientation change for all objects). `ends` has one entry per start. Throws InputError when
+  /// sizes differ, the starts differ in time, or an input is not finite.
+  void predict_ends(std::span<const ObjectDynamics> xi, const ModelExtensions& ext,
+                    const NozzleTimeline& timeline, std::span<const WindowStart> starts,
+                    double t_end_s, std::span<Eigen::Vector2d> ends) const;
+
   /// The orientation the air follows at t under `ext` (offset added, tilt kept inside the field
   /// model's range).
   NozzleOrientation field_orientation(const ModelExtensions& ext, const NozzleTimeline& timeline,

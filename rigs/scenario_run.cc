@@ -15,6 +15,9 @@ namespace airtwin {
 
 namespace {
 
+// How long an object the perception misses stays in the plan (controller/closed_loop.h).
+constexpr double kForgetAfter = 3.0;
+
 // The observation a rig would give before anything moved: the scenario's start positions.
 Observation start_observation(const Scenario& scenario) {
   Observation o;
@@ -47,7 +50,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   TwinParameters params = options.twin;
   {
     Controller first(planning, scenario.controller, scenario.task, options.dynamics,
-                     options.seed ^ 0x5EEDF00Dull);
+                     options.seed ^ 0x5EEDF00Dull, kForgetAfter, options.planning_extensions);
     first.observe(start_observation(scenario));
     params.initial_orientation = first.decide(0.0).plan.orientation;
   }
@@ -68,7 +71,8 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   TwinRig rig(twin, *perception);
   RunMetrics metrics(scenario.task);
   Controller controller(planning, scenario.controller, scenario.task, options.dynamics,
-                        options.seed);
+                        options.seed, kForgetAfter, options.planning_extensions);
+  controller.assume_nozzle(params.initial_orientation);
 
   // The log: one trajectory per object, a row per camera frame, the commanded orientation.
   result.log.has_group = true;

@@ -35,6 +35,9 @@ struct ScenarioRunOptions {
   /// Set: the controller plans with this field instead of the twin's (an extended model's
   /// field_scale, models/extended_model.h); unset: with the twin's field model.
   std::shared_ptr<const AirFieldModel> planning_field;
+  /// Set: the controller predicts with an extended model's extensions and nozzle response
+  /// (controller/cem_planner.h) on the planning field.
+  std::optional<ExtendedPlanning> planning_extensions;
   /// Set: the controller sees through the detection pipeline with this calibrated camera
   /// (`--vision`); unset: the twin's truth (fast mode).
   std::optional<CalibratedCamera> vision_camera;

@@ -229,7 +229,10 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       const Eigen::Index col = static_cast<Eigen::Index>(first_body_[o] + k);
       p_body_W_(0, col) = d->xipos[3 * b];
       p_body_W_(1, col) = d->xipos[3 * b + 1];
-      v_body_W_.col(col) = body_com_velocity(m, d, b).head<2>();
+      // The drag's velocity is that of the point it acts on (the body origin): then the drag
+      // only ever takes energy out. Taken at the centre of mass while acting at the face, it
+      // pumped energy into a tumbling tracer's spin until it flew off the floor.
+      v_body_W_.col(col) = body_origin_velocity(m, d, b).head<2>();
     }
   }
   if (air) field_->velocities(p_body_W_, u_body_W_);

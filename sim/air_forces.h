@@ -2,7 +2,7 @@
 // The air's push on every object body, applied through MuJoCo's passive-force callback.
 //
 // Per body b of object o (share w_b of o's horizontally projected area, sim/scene_builder.h), at
-// the body's centre of mass p (floor plane) with velocity v:
+// the body's centre of mass p (floor plane), with v the velocity of the point the force acts on:
 //
 //   drag (the physics behind eq. 8, sim/scene_spec.h):
 //     F_D = w_b c_o (k_o u(p) - v),   c_o = m_o * drag_rate_o,   k_o = air_gain_o
@@ -26,6 +26,8 @@
 // Forces are horizontal and act at each body's frame origin: the centre of a wad element, the
 // centre of a tracer's flat face. At the face the air adds no pitching moment; applied at the
 // tracer's centre of mass (5.6 mm up) it made the disc rock and hop on MuJoCo's soft contacts.
+// The drag's v is that point's velocity too, so the drag never does work on a body's spin (with
+// the centre's velocity instead, a tumbling tracer gained energy until it flew off the floor).
 //
 // Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean

@@ -90,16 +90,27 @@ DataPtr make_data(const mjModel* m) {
   return DataPtr(d);
 }
 
-Eigen::Vector3d body_com_velocity(const mjModel* m, const mjData* d, int b) {
-  // cvel is [angular; linear] about the centre of mass of b's whole tree (subtree_com of its
-  // root), world-aligned: shift it to b's own centre of mass.
+namespace {
+
+// cvel is [angular; linear] about the centre of mass of b's whole tree (subtree_com of its
+// root), world-aligned: shift it to the point `to` of body b.
+Eigen::Vector3d body_point_velocity(const mjModel* m, const mjData* d, int b, const mjtNum* to) {
   const mjtNum* cvel = d->cvel + 6 * b;
   const mjtNum* from = d->subtree_com + 3 * m->body_rootid[b];
-  const mjtNum* to = d->xipos + 3 * b;
   const Eigen::Vector3d w(cvel[0], cvel[1], cvel[2]);
   const Eigen::Vector3d v(cvel[3], cvel[4], cvel[5]);
   const Eigen::Vector3d offset(to[0] - from[0], to[1] - from[1], to[2] - from[2]);
   return v + w.cross(offset);
+}
+
+}  // namespace
+
+Eigen::Vector3d body_com_velocity(const mjModel* m, const mjData* d, int b) {
+  return body_point_velocity(m, d, b, d->xipos + 3 * b);
+}
+
+Eigen::Vector3d body_origin_velocity(const mjModel* m, const mjData* d, int b) {
+  return body_point_velocity(m, d, b, d->xpos + 3 * b);
 }
 
 }  // namespace airtwin

@@ -67,4 +67,7 @@ DataPtr make_data(const mjModel* m);
 /// (valid after mj_forward's velocity stage, e.g. inside mjcb_passive).
 Eigen::Vector3d body_com_velocity(const mjModel* m, const mjData* d, int b);
 
+/// Linear velocity (m/s, world frame) of body b's frame origin (xpos), the same way.
+Eigen::Vector3d body_origin_velocity(const mjModel* m, const mjData* d, int b);
+
 }  // namespace airtwin

@@ -8,6 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/units.h"
+#include "models/air_field.h"
+#include "models/nozzle_geometry.h"
 #include "models/trajectory_data.h"
 #include "tests/app/cli_runner.h"
 
@@ -19,6 +22,16 @@ using testing::run_airtwin;
 using testing::scratch_dir;
 
 const std::string kScenes = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/";
+
+// An extended_model.json with the paper's tracer coefficients, the default nozzle response and
+// `extensions` (a JSON object's members).
+void write_extended_model(const std::string& path, const std::string& extensions) {
+  std::ofstream(path) << R"({"format": "airtwin-extended-model", "version": 1,
+      "objects": {"tracer": {"xi1": -2.66, "xi2": 4.26, "xi3": -8.53}},
+      "nozzle_response": {"max_speed_radps": 7, "max_acceleration_radps2": 30,
+                          "transit_delay_s": 0.2},
+      "extensions": {)" + extensions + "}}";
+}
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path);
@@ -75,18 +88,55 @@ TEST(RunCli, BadInputIsOneClearLine) {
   // Flags are checked before anything is written.
   EXPECT_FALSE(std::ifstream(d + "/o/summary.json").good());
 
-  // An extended model with an extension the planner does not carry is refused, not dropped.
-  std::ofstream(d + "/ext.json")
-      << R"({"format": "airtwin-extended-model", "version": 1,
-             "objects": {"tracer": {"xi1": -2.66, "xi2": 4.26, "xi3": -8.53}},
-             "nozzle_response": {"max_speed_radps": 7, "max_acceleration_radps2": 30,
-                                 "transit_delay_s": 0.2},
-             "extensions": {"floor_slope": {"angle_deg": 3, "direction_deg": 0}}})";
+  // An extended model with a value out of its extension's range is one line naming it.
+  write_extended_model(d + "/ext.json",
+                       R"("floor_slope": {"angle_deg": 95, "direction_deg": 0})");
   const auto ext = run_airtwin(line + "--model " + d + "/ext.json");
   EXPECT_EQ(ext.exit_code, 1);
   EXPECT_EQ(count_lines(ext.err), 1) << ext.err;
-  EXPECT_NE(ext.err.find("does not plan with the floor_slope extension"), std::string::npos)
-      << ext.err;
+  EXPECT_NE(ext.err.find("floor_slope"), std::string::npos) << ext.err;
+}
+
+// The closed loop's gain from an extended model: the twin's servos are off by (8, 4) deg. The
+// controller planning with the nominal model aims wrong and does not finish the line; with an
+// extended model that carries the offset it commands the aim minus the offset (checked on every
+// decision against eqs. (1)-(2) inverted) and finishes.
+TEST(RunCli, ExtendedModelCompensatesTheNozzleOffset) {
+  const std::string d = scratch_dir("run_extended");
+  write_extended_model(d + "/ext.json", R"("nozzle_offset": {"pan_deg": 8, "tilt_deg": 4})");
+  const std::string line = "run " + kScenes + "line.yaml --seed 2 --quiet " +
+                           "--effect nozzle_offset:pan_deg=8,tilt_deg=4 ";
+  const auto nominal = run_airtwin(line + "--out " + d + "/nominal");
+  ASSERT_EQ(nominal.exit_code, 0) << nominal.err;
+  const auto extended = run_airtwin(line + "--model " + d + "/ext.json --out " + d + "/extended");
+  ASSERT_EQ(extended.exit_code, 0) << extended.err;
+  const auto jn = nlohmann::json::parse(slurp(d + "/nominal/summary.json"));
+  const auto je = nlohmann::json::parse(slurp(d + "/extended/summary.json"));
+  EXPECT_FALSE(jn["success"].get<bool>());
+  EXPECT_TRUE(je["success"].get<bool>());
+
+  // decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,...
+  std::istringstream rows(slurp(d + "/extended/decisions.csv"));
+  std::string row;
+  std::getline(rows, row);
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  int checked = 0;
+  double pan_hint = 0.0;
+  while (std::getline(rows, row)) {
+    std::vector<double> v;
+    std::istringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::stod(cell));
+    ASSERT_GE(v.size(), 8u) << row;
+    const AimResult aim = aim_at_stagnation(model.geometry(), {v[4], v[5]}, pan_hint);
+    ASSERT_TRUE(aim.reachable()) << row;
+    // The CSV carries 6 decimals of s (1 um) and of the angles.
+    EXPECT_NEAR(v[6], rad_to_deg(wrap_angle(aim.orientation->pan_rad - deg_to_rad(8.0))), 1e-3)
+        << row;
+    EXPECT_NEAR(v[7], rad_to_deg(aim.orientation->tilt_rad) - 4.0, 1e-3) << row;
+    pan_hint = deg_to_rad(v[6]);
+    ++checked;
+  }
+  EXPECT_EQ(checked, je["decisions"].get<int>());
 }
 
 }  // namespace

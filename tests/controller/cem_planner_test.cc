@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "common/units.h"
 #include "models/cvode_predictor.h"
 
 namespace airtwin {
@@ -53,6 +54,81 @@ TEST_F(CemPlannerTest, CostIsEquationTenWithTheReferencePredictor) {
     EXPECT_NEAR(j, expected, 3 * 0.5e-3) << s.transpose();
     ASSERT_EQ(ends.size(), 3u);
   }
+}
+
+// Extended planning with every extension off and no transit: eq. (10) again, now against the
+// CVODE reference of eqs. (8)-(9) (objects at rest, so eq. (9)'s radial start is exact). The
+// extended predictor's semi-implicit Euler at 1 ms is good to ~1 mm over 2 s
+// (models/extended_predictor.h).
+TEST_F(CemPlannerTest, ExtendedPlanningWithNothingAddedIsEquationTen) {
+  v_.assign(3, Eigen::Vector2d::Zero());
+  ExtendedPlanning plain;
+  plain.response.transit_delay_s = 0.0;
+  plain.step_s = 1e-3;
+  const CemPlanner planner(model_, CemParameters::line_defaults(), {}, plain);
+  const CvodePredictor cvode;
+  for (const Eigen::Vector2d& s : {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(-0.2, 0.4)}) {
+    const AimResult aim = aim_at_stagnation(model_.geometry(), s);
+    ASSERT_TRUE(aim.reachable());
+    const OrientedField field = model_.at(*aim.orientation);
+    std::vector<ObjectState> start;
+    for (const auto& p : p_) start.push_back(ObjectState{p, 0.0});
+    const Prediction pred = cvode.predict(field, xi_, start, PredictionOptions{1.5, 0.0});
+    double expected = 0.0;
+    for (size_t j = 0; j < 3; ++j) expected += (pred.end[j].p_W - r_[j]).norm();
+    EXPECT_NEAR(planner.cost(problem(), s), expected, 3 * 1.5e-3) << s.transpose();
+  }
+}
+
+// Extended planning with extensions: the cost is eq. (10) over ExtendedPredictor::predict, one
+// object at a time, under the command with the servo offset taken out, starting from the
+// previous command through the servos and the delays; the plan commands that compensated aim.
+TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
+  ExtendedPlanning ext;
+  ext.extensions.pan_offset_rad = deg_to_rad(6.0);
+  ext.extensions.tilt_offset_rad = deg_to_rad(3.0);
+  ext.extensions.extra_delay_s = 0.3;
+  ext.extensions.slope_rad = deg_to_rad(2.0);
+  ext.extensions.slope_direction_rad = deg_to_rad(200.0);
+  ext.extensions.deflection_rad = deg_to_rad(-7.0);
+  const CemParameters params = CemParameters::line_defaults();
+  const CemPlanner planner(model_, params, {}, ext);
+  PlanningProblem pr = problem();
+  const NozzleOrientation now{deg_to_rad(100.0), deg_to_rad(20.0)};
+  pr.nozzle_now = now;
+  const ExtendedPredictor reference(model_, ext.step_s);
+  const double t_end = params.horizon_s + ext.response.transit_delay_s + 0.3;
+  for (const Eigen::Vector2d& s : {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(-0.2, 0.4)}) {
+    const AimResult aim = aim_at_stagnation(model_.geometry(), s);
+    ASSERT_TRUE(aim.reachable());
+    const NozzleOrientation command{wrap_angle(aim.orientation->pan_rad - deg_to_rad(6.0)),
+                                    aim.orientation->tilt_rad - deg_to_rad(3.0)};
+    ASSERT_GT(command.tilt_rad, 0.0);
+    const NozzleTimeline timeline(ext.response, {{-1.0, now}, {0.0, command}}, t_end);
+    double expected = 0.0;
+    for (size_t j = 0; j < 3; ++j) {
+      std::vector<Eigen::Vector2d> end;
+      const double times[] = {t_end};
+      reference.predict(xi_[j], ext.extensions, timeline, WindowStart{0.0, p_[j], v_[j]}, times,
+                        &end);
+      expected += (end[0] - r_[j]).norm();
+    }
+    std::vector<Eigen::Vector2d> ends;
+    EXPECT_NEAR(planner.cost(pr, s, &ends), expected, 1e-12) << s.transpose();
+    ASSERT_EQ(ends.size(), 3u);
+  }
+  RandomStream rng(4, RandomPurpose::kController, 0);
+  const PlanResult plan = planner.plan(pr, rng);
+  const AimResult aim = aim_at_stagnation(model_.geometry(), plan.stagnation_W, 0.0);
+  ASSERT_TRUE(aim.reachable());
+  EXPECT_NEAR(plan.orientation.pan_rad, wrap_angle(aim.orientation->pan_rad - deg_to_rad(6.0)),
+              1e-12);
+  EXPECT_NEAR(plan.orientation.tilt_rad,
+              std::max(0.0, aim.orientation->tilt_rad - deg_to_rad(3.0)), 1e-12);
+  // A bad extension is refused when the planner is made.
+  ExtendedPlanning bad = ext;
+  bad.extensions.static_friction_ratio = 0.2;
+  EXPECT_THROW(CemPlanner(model_, params, {}, bad), InputError);
 }
 
 TEST_F(CemPlannerTest, PenaltyNearAnObjectOrOutOfReach) {

@@ -204,6 +204,48 @@ TEST(ExtendedPredictor, SlopePullsAMovingObjectDownhill) {
   EXPECT_LT(((ours[0] - level[0]) - shift_ref).norm(), 0.1 * shift_ref.norm());
 }
 
+// predict_ends (all objects in lockstep, what the controller plans with) against predict (one
+// object at a time): the same numbers, under every extension at once and a moving nozzle.
+TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
+  ModelExtensions ext;
+  ext.push_strength_mps2 = 8.0;
+  ext.push_length_m = 0.2;
+  ext.extra_delay_s = 0.1;
+  ext.deflection_rad = deg_to_rad(8.0);
+  ext.quadratic_drag_per_m = 0.5;
+  ext.slope_rad = deg_to_rad(2.0);
+  ext.slope_direction_rad = deg_to_rad(60.0);
+  ext.static_friction_ratio = 1.4;
+  ext.pan_offset_rad = deg_to_rad(3.0);
+  ext.tilt_offset_rad = deg_to_rad(2.0);
+  ext.field_scale = 1.1;
+  const NozzleTimeline timeline(NozzleResponseParameters{},
+                                {{-1.0, {0.3, deg_to_rad(10.0)}}, {0.0, {-0.8, deg_to_rad(25.0)}}},
+                                3.0);
+  const std::vector<ObjectDynamics> xi = {kTracerDynamics, kCottonDynamics, kTracerDynamics,
+                                          kCottonDynamics};
+  const std::vector<WindowStart> starts = {{0.0, {0.5, 0.2}, {0.0, 0.0}},
+                                           {0.0, {-0.3, -0.6}, {0.1, -0.2}},
+                                           {0.0, {0.05, 0.7}, {0.0, 0.0}},
+                                           {0.0, {-0.9, 0.1}, {-0.3, 0.0}}};
+  const ExtendedPredictor predictor(field(), 2e-3);
+  for (double t_end : {0.0, 0.0013, 0.7, 1.7}) {
+    std::vector<Eigen::Vector2d> ends(starts.size());
+    predictor.predict_ends(xi, ext, timeline, starts, t_end, ends);
+    for (size_t j = 0; j < starts.size(); ++j) {
+      std::vector<Eigen::Vector2d> one;
+      const double times[] = {t_end};
+      predictor.predict(xi[j], ext, timeline, starts[j], times, &one);
+      EXPECT_EQ(ends[j], one[0]) << "object " << j << " at " << t_end << " s";
+    }
+    if (t_end > 1.0) EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
+  }
+  std::vector<Eigen::Vector2d> two(2);
+  const std::vector<WindowStart> apart = {{0.0, {0.5, 0.2}, {0.0, 0.0}}, {0.1, {0.5, 0.2}, {0.0, 0.0}}};
+  EXPECT_THROW(predictor.predict_ends({xi.data(), 2}, ext, timeline, apart, 1.0, two), InputError);
+  EXPECT_THROW(predictor.predict_ends(xi, ext, timeline, starts, 1.0, two), InputError);
+}
+
 TEST(ExtendedPredictor, RejectsBadInput) {
   ModelExtensions bad;
   bad.static_friction_ratio = 0.5;

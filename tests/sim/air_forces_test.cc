@@ -31,7 +31,8 @@ constexpr const char* kFloating = R"(
 </mujoco>)";
 
 struct Floating {
-  Floating() : model(load_model_from_xml(kFloating, "floating")), data(make_data(model.get())) {
+  explicit Floating(const char* xml = kFloating)
+      : model(load_model_from_xml(xml, "floating")), data(make_data(model.get())) {
     object.id = "probe";
     object.type = ObjectType::kTracer;
     object.root_body = 1;
@@ -69,6 +70,53 @@ TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   const Eigen::Vector2d eq8 = xi.xi1 * v + xi.xi2 * 0.7 * field.velocity(p);
   EXPECT_LT((planar_acceleration(f.data.get()) - eq8).norm(), 1e-9 * eq8.norm());
   EXPECT_TRUE(air.fault().empty());
+}
+
+// The tracer's centre of mass sits above its body origin (the flat face, where the force acts).
+// The drag must take the velocity of that point, not the centre's: a spinning body then loses
+// energy to the drag, never gains it. (On the centre's velocity, a tumbling tracer gained spin
+// until it flew off the floor.)
+constexpr const char* kOffsetCentre = R"(
+<mujoco>
+  <option gravity="0 0 0" timestep="0.001"/>
+  <worldbody>
+    <body name="obj0" pos="0.3 0.1 0.0">
+      <freejoint/>
+      <inertial pos="0 0 0.0056" mass="0.00016" diaginertia="9e-9 9e-9 1.4e-8"/>
+      <geom type="sphere" size="0.015" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+TEST(AirForces, DragActsOnTheVelocityOfThePointItPushes) {
+  Floating f(kOffsetCentre);
+  mjData* data = f.data.get();
+  const SceneParameters scene;
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.4, 0.3});
+  AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
+  air.set_air(field, 1.0);
+  // Sliding and tumbling about the body's y axis: the centre moves 40 * 5.6 mm = 0.22 m/s faster
+  // in x than the origin.
+  const Eigen::Vector2d v_origin(0.2, -0.1);
+  data->qvel[0] = v_origin.x();
+  data->qvel[1] = v_origin.y();
+  data->qvel[4] = 40.0;
+  {
+    AirForcesScope scope(f.model.get(), &air);
+    mj_forward(f.model.get(), data);
+  }
+  const ObjectTypeParameters& t = scene.tracer;
+  const double c = f.object.mass_kg * t.drag_rate_per_s;
+  const Eigen::Vector2d p(data->xipos[3], data->xipos[4]);
+  const Eigen::Vector2d force = c * (t.air_gain * field.velocity(p) - v_origin);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(data->qfrc_passive[i], force[i], 1e-12) << i;
+  for (int i = 2; i < 6; ++i) EXPECT_EQ(data->qfrc_passive[i], 0.0) << i;
+  // Its power is the air's work minus c |v_origin|^2: the drag part never feeds the spin.
+  double power = 0.0;
+  for (int i = 0; i < 6; ++i) power += data->qfrc_passive[i] * data->qvel[i];
+  const double drag_power = power - c * t.air_gain * field.velocity(p).dot(v_origin);
+  EXPECT_NEAR(drag_power, -c * v_origin.squaredNorm(), 1e-15);
 }
 
 TEST(AirForces, PressurePushIsRadialAndPeaksNearTheStagnationPoint) {
