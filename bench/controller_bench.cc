@@ -8,12 +8,17 @@
 // Each iteration is one full decision (every iteration of CEM, all predictions with the fast
 // predictor over Delta T = 1.5 s). Counters: evaluations (candidates predicted), iterations.
 // Target: <= 5 ms each.
+//   BM_CemDecision/octagon, and */extended: the same decision planned with an extended model
+//     (a nozzle offset of (8, 4) deg and a 0.3 s response delay: the extended predictor at 2 ms
+//     steps, the nozzle turning from a previous command), against the fast path in the same run.
 
 #include <benchmark/benchmark.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/units.h"
 #include "controller/cem_planner.h"
 #include "controller/task.h"
 #include "scenes/scenario.h"
@@ -21,10 +26,17 @@
 namespace airtwin {
 namespace {
 
-void BM_CemDecision(benchmark::State& state, const std::string& name) {
+void BM_CemDecision(benchmark::State& state, const std::string& name, bool extended) {
   const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   const AirFieldModel model = AirFieldModel::with_default_table();
-  const CemPlanner planner(model, sc.controller);
+  std::optional<ExtendedPlanning> planning;
+  if (extended) {
+    planning.emplace();
+    planning->extensions.pan_offset_rad = 8.0 * kPi / 180.0;
+    planning->extensions.tilt_offset_rad = 4.0 * kPi / 180.0;
+    planning->extensions.extra_delay_s = 0.3;
+  }
+  const CemPlanner planner(model, sc.controller, {}, planning);
   std::vector<Eigen::Vector2d> p, v;
   std::vector<std::string> types;
   std::vector<ObjectDynamics> xi;
@@ -41,6 +53,7 @@ void BM_CemDecision(benchmark::State& state, const std::string& name) {
   problem.velocities_W = v;
   problem.dynamics = xi;
   problem.references_W = r;
+  if (extended) problem.nozzle_now = NozzleOrientation{0.5, 0.3};
   RandomStream rng(1, RandomPurpose::kController, 0);
   int evaluations = 0, iterations = 0;
   for (auto _ : state) {
@@ -55,9 +68,16 @@ void BM_CemDecision(benchmark::State& state, const std::string& name) {
   state.counters["objects"] = static_cast<double>(p.size());
 }
 
-BENCHMARK_CAPTURE(BM_CemDecision, aggregation, std::string("aggregation"))
+BENCHMARK_CAPTURE(BM_CemDecision, aggregation, std::string("aggregation"), false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_CemDecision, sorting, std::string("sorting"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, sorting, std::string("sorting"), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, octagon, std::string("octagon"), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, octagon_extended, std::string("octagon"), true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, aggregation_extended, std::string("aggregation"), true)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace airtwin

@@ -56,7 +56,7 @@ struct DiscrepancyOptions {
   double window_s = 3.0;          ///< longest prediction (s)
   double min_window_s = 0.5;      ///< shorter windows are not used
   int residual_stride = 2;        ///< frames between the samples of the error
-  double alpha = 0.01;            ///< family-wise significance level
+  double alpha = 0.05;            ///< family-wise significance level
   double max_delta_bic = -10.0;   ///< a cause needs delta BIC at most this
   double min_gain = 0.15;         ///< and this relative reduction of the held-out path error
   int max_found = 3;

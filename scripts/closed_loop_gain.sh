@@ -67,7 +67,7 @@ for effect in $effects; do
   "$bin" collect --object tracer --per-tilt 50 --lead-in 0.5 --seed 1 --effect "$effect" \
     --quiet --out "$dir/data.csv" >/dev/null
   "$bin" discrepancy "$dir/data.csv" --seed 1 --quiet --out "$dir/analysis" >/dev/null
-  found=$(sed -n 's/.*"found": *\[\([^]]*\)\].*/\1/p' "$dir/analysis/report.json" | tr -d '" ')
+  found=$(tr -d '\n' < "$dir/analysis/report.json" | sed -n 's/.*"found": *\[\([^]]*\)\].*/\1/p' | tr -d '" ')
   "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" --quiet \
     --out "$dir/nominal" >/dev/null
   "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" --quiet \
