@@ -54,6 +54,15 @@ void CemParameters::validate(const std::string& source) const {
   if (max_iterations < 1 || max_iterations > 1000) {
     throw InputError(source + ": controller.max_iterations must be in [1, 1000]");
   }
+  if (!(std::isfinite(scan_step_m) && scan_step_m >= 0.0)) {
+    throw InputError(source + ": controller.scan_step_m must be a number >= 0");
+  }
+  if (scan_step_m > 0.0 && scan_step_m < 0.01) {
+    throw InputError(source + ": controller.scan_step_m must be at least 0.01 m (or 0: no scan)");
+  }
+  if (scan_step_m > 0.0 && search != CemSearch::kPlane) {
+    throw InputError(source + ": controller.scan_step_m applies to the plane search only");
+  }
 }
 
 CemPlanner::CemPlanner(const AirFieldModel& model, const CemParameters& params,
@@ -115,6 +124,21 @@ void check_problem(const PlanningProblem& pr) {
   if (pr.velocities_W.size() != m || pr.dynamics.size() != m || pr.references_W.size() != m) {
     throw InputError("controller: positions, velocities, dynamics and references differ in size");
   }
+  if ((!pr.weights.empty() && pr.weights.size() != m) ||
+      (!pr.reach_m.empty() && pr.reach_m.size() != m)) {
+    throw InputError("controller: weights or reaches given for some objects only");
+  }
+  for (size_t j = 0; j < pr.weights.size(); ++j) {
+    if (!(std::isfinite(pr.weights[j]) && pr.weights[j] >= 0.0)) {
+      throw InputError("controller: object " + std::to_string(j) +
+                       " has a weight that is not a finite number >= 0");
+    }
+  }
+  for (size_t j = 0; j < pr.reach_m.size(); ++j) {
+    if (!(pr.reach_m[j] > 0.0)) {
+      throw InputError("controller: object " + std::to_string(j) + " has a reach that is not > 0");
+    }
+  }
   for (size_t j = 0; j < m; ++j) {
     if (!pr.positions_W[j].allFinite() || !pr.velocities_W[j].allFinite() ||
         !pr.references_W[j].allFinite()) {
@@ -125,6 +149,20 @@ void check_problem(const PlanningProblem& pr) {
   if (pr.anchor >= static_cast<int>(m)) {
     throw InputError("controller: anchor object " + std::to_string(pr.anchor) + " out of range");
   }
+}
+
+// eq. (10)'s sum over the predicted ends, with the problem's weights and reaches (see the top of
+// cem_planner.h).
+double end_cost(const PlanningProblem& pr, const std::vector<Eigen::Vector2d>& end_W) {
+  double sum = 0.0;
+  for (size_t j = 0; j < end_W.size(); ++j) {
+    const double w = pr.weights.empty() ? 1.0 : pr.weights[j];
+    sum += w * (end_W[j] - pr.references_W[j]).norm();
+    if (!pr.reach_m.empty()) {
+      sum += kOutOfReachCost * std::max(0.0, end_W[j].norm() - pr.reach_m[j]);
+    }
+  }
+  return sum;
 }
 
 // The planner's predictors: the fast one of eqs. (8)-(9), or the extended model's.
@@ -157,10 +195,8 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     if (orientation != nullptr) *orientation = command;
     predict_extended(*predictors.extended, *predictors.extended_predictor, params, pr, command,
                      scratch);
-    double sum = 0.0;
-    for (size_t j = 0; j < m; ++j) sum += (scratch.end_W[j] - pr.references_W[j]).norm();
     *feasible = true;
-    return sum;
+    return end_cost(pr, scratch.end_W);
   }
   if (orientation != nullptr) *orientation = *aim.orientation;
   const OrientedField field = model.at(*aim.orientation);
@@ -179,13 +215,9 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
   options.horizon_s = params.horizon_s;
   predictors.fast.predict(field, pr.dynamics, scratch.start, options, scratch.prediction);
   scratch.end_W.resize(m);
-  double sum = 0.0;
-  for (size_t j = 0; j < m; ++j) {
-    scratch.end_W[j] = scratch.prediction.end[j].p_W;
-    sum += (scratch.end_W[j] - pr.references_W[j]).norm();
-  }
+  for (size_t j = 0; j < m; ++j) scratch.end_W[j] = scratch.prediction.end[j].p_W;
   *feasible = true;
-  return sum;
+  return end_cost(pr, scratch.end_W);
 }
 
 Predictors predictors_of(const FastPredictor& fast, const std::optional<ExtendedPlanning>& ext,
@@ -251,6 +283,8 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
 
   Eigen::Vector2d mu;
   Eigen::Matrix2d sigma = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d scan_best = Eigen::Vector2d::Zero();
+  double scan_cost = std::numeric_limits<double>::infinity();
   if (p.search == CemSearch::kLine) {
     mu = Eigen::Vector2d(p.mean0_m, 0.0);
     sigma(0, 0) = p.variance0_m2;
@@ -259,6 +293,28 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     for (const auto& q : problem.positions_W) mu += q;
     mu /= static_cast<double>(m);
     sigma = Eigen::Matrix2d::Identity() * p.variance0_m2;
+    if (p.scan_step_m > 0.0) {
+      // The scan (see cem_planner.h): grid points in row order, ties to the first, so the
+      // result is deterministic; no feasible point leaves mu at the mean.
+      const double r_max = max_stagnation_radius(model_.geometry());
+      const int half = static_cast<int>(std::floor(r_max / p.scan_step_m));
+      double cheapest = std::numeric_limits<double>::infinity();
+      for (int iy = -half; iy <= half; ++iy) {
+        for (int ix = -half; ix <= half; ++ix) {
+          const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
+          if (s.norm() > r_max) continue;
+          bool feasible = false;
+          const double c = evaluate(model_, preds, p, problem, s, scratch, nullptr, &feasible);
+          result.evaluations += feasible ? 1 : 0;
+          if (feasible && c < cheapest) {
+            cheapest = c;
+            mu = s;
+          }
+        }
+      }
+      scan_best = mu;
+      scan_cost = cheapest;
+    }
   }
 
   std::vector<Eigen::Vector2d> z(n);
@@ -315,6 +371,11 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   double j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
   if (!feasible && best_cost < p.penalty) {
     s = to_point(best_z);
+    j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
+  }
+  // After a scan the decision is never worse than the scan's best point.
+  if (scan_cost < p.penalty && (!feasible || scan_cost < j)) {
+    s = scan_best;
     j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
   }
   if (!feasible) {

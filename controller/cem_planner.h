@@ -21,6 +21,17 @@
 // Candidates the nozzle cannot produce (beyond the tilt range) cost J_P, like those too close to
 // an object. Deterministic: the samples come from a RandomStream the caller seeds.
 //
+// Two additions the paper does not use, both off unless asked for (sorting in stages uses them,
+// controller/task.h):
+//  - per-object weights and reaches in eq. (10):
+//      J = sum_j w_j || p_j^end - r_j || + kOutOfReachCost sum_j max(0, |p_j^end| - R_j),
+//    |p| measured from the point below the nozzle; w_j = 1 and R_j = infinity give eq. (10).
+//  - a scan before the plane search (scan_step_m > 0): eq. (10) on a square grid of that pitch
+//    over the disc of reachable stagnation points; the cheapest feasible point becomes mu0
+//    instead of the objects' mean, and the decision is the cheaper of the search's final mean and
+//    that point. With objects spread over the floor the best push can be a metre from their
+//    mean, where a Gaussian of a few cm never samples.
+//
 // Extended planning (an extended model from `airtwin discrepancy`, models/extended_model.h): the
 // trajectories are predicted with models/extended_predictor.h instead, under the model's
 // extensions and the nozzle's response. The new command takes over from the previous one through
@@ -50,6 +61,11 @@ namespace airtwin {
 
 enum class CemSearch { kLine, kPlane };
 
+/// Cost per metre an object ends beyond its reach R_j (cost units are metres of distance): a
+/// wall soft enough to leave the search a gradient, steep enough that no distance gain pays for
+/// crossing it.
+inline constexpr double kOutOfReachCost = 10.0;
+
 /// "line" or "plane".
 const char* cem_search_name(CemSearch search);
 
@@ -68,6 +84,9 @@ struct CemParameters {
   /// Sigma* (m^2): the variance (line) or the covariance's Frobenius norm (plane) below which
   /// the search has converged.
   double converged_variance_m2 = 0.3e-4;
+  /// Plane search only: pitch (m) of the grid scanned for mu0 (see above); 0, the paper's
+  /// choice: mu0 is the objects' mean.
+  double scan_step_m = 0.0;
 
   /// The paper's values for each search.
   static CemParameters line_defaults();
@@ -93,6 +112,11 @@ struct PlanningProblem {
   std::span<const Eigen::Vector2d> velocities_W;
   std::span<const ObjectDynamics> dynamics;      ///< eq. (8) coefficients per object
   std::span<const Eigen::Vector2d> references_W; ///< r_j (m)
+  /// w_j, each finite and >= 0; empty: all 1 (eq. 10).
+  std::span<const double> weights;
+  /// R_j (m): how far from the point below the nozzle object j should end, > 0 or +infinity;
+  /// empty: no limit.
+  std::span<const double> reach_m;
   /// Line search only: the anchor object (farthest from its reference when < 0).
   int anchor = -1;
   /// Current nozzle pan (rad): the pan used for s at the origin.

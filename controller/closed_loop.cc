@@ -7,12 +7,21 @@
 #include "common/errors.h"
 
 namespace airtwin {
+namespace {
+
+std::map<std::string, double> thresholds_of(const std::map<std::string, ObjectDynamics>& by_type) {
+  std::map<std::string, double> out;
+  for (const auto& [type, xi] : by_type) out[type] = xi.threshold_air_speed();
+  return out;
+}
+
+}  // namespace
 
 Controller::Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
                        std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
                        double forget_after_s, std::optional<ExtendedPlanning> extended)
     : planner_(model, cem, FastPredictor::Options{}, std::move(extended)),
-      progress_(task),
+      progress_(resolve_sorting_stages(task, thresholds_of(dynamics_by_type))),
       dynamics_(std::move(dynamics_by_type)),
       rng_(seed, RandomPurpose::kController, 0),
       forget_after_s_(forget_after_s) {
@@ -72,6 +81,9 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   problem.velocities_W = v;
   problem.dynamics = xi;
   problem.references_W = r;
+  const CostShaping shaping = progress_.cost_shaping(p, types);
+  problem.weights = shaping.weights;
+  problem.reach_m = shaping.reach_m;
   problem.pan_hint_rad = pan_hint_rad;
   problem.nozzle_now = last_command_;
 

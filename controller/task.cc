@@ -70,8 +70,42 @@ void TaskSpec::validate(const std::string& source) const {
         throw InputError(source + ": task.zones: a sorting task needs a zone per object type");
       }
       for (const auto& [type, z] : zones_by_type) check_zone(z, source, "task.zones." + type);
+      for (size_t i = 0; i < stages.size(); ++i) {
+        if (!zones_by_type.count(stages[i])) {
+          throw InputError(source + ": task.stages names '" + stages[i] + "', which has no zone");
+        }
+        if (std::find(stages.begin(), stages.begin() + i, stages[i]) != stages.begin() + i) {
+          throw InputError(source + ": task.stages names '" + stages[i] + "' twice");
+        }
+      }
+      if (!(std::isfinite(deferred_weight) && deferred_weight > 0.0 && deferred_weight <= 1.0)) {
+        throw InputError(source + ": task.deferred_weight must be in (0, 1]");
+      }
+      if (!(std::isfinite(reach_m) && reach_m > 0.0)) {
+        throw InputError(source + ": task.reach_m must be a positive number");
+      }
       break;
   }
+}
+
+TaskSpec resolve_sorting_stages(const TaskSpec& spec,
+                                const std::map<std::string, double>& threshold_air_speed_mps) {
+  if (spec.kind != TaskKind::kSorting || !spec.stages_auto) return spec;
+  TaskSpec out = spec;
+  out.stages_auto = false;
+  out.stages.clear();
+  for (const auto& [type, zone] : spec.zones_by_type) {
+    if (!threshold_air_speed_mps.count(type)) {
+      throw InputError("task.stages: no dynamics to order object type '" + type + "' by");
+    }
+    out.stages.push_back(type);
+  }
+  // Highest threshold first; the map's name order breaks ties (stable sort).
+  std::stable_sort(out.stages.begin(), out.stages.end(),
+                   [&](const std::string& a, const std::string& b) {
+                     return threshold_air_speed_mps.at(a) > threshold_air_speed_mps.at(b);
+                   });
+  return out;
 }
 
 std::vector<Eigen::Vector2d> path_references(const TaskSpec& spec) {
@@ -203,6 +237,40 @@ int TaskProgress::objects_in_zone(const std::vector<Eigen::Vector2d>& p_W,
     }
   }
   return n;
+}
+
+std::string TaskProgress::active_stage(const std::vector<Eigen::Vector2d>& p_W,
+                                       const std::vector<std::string>& types) const {
+  AIRTWIN_DEMAND(p_W.size() == types.size());
+  if (spec_.kind != TaskKind::kSorting || spec_.stages.empty()) return "";
+  for (const std::string& stage : spec_.stages) {
+    for (size_t j = 0; j < p_W.size(); ++j) {
+      if (types[j] == stage && !zone_of(types[j]).contains(p_W[j])) return stage;
+    }
+  }
+  return spec_.stages.back();
+}
+
+CostShaping TaskProgress::cost_shaping(const std::vector<Eigen::Vector2d>& p_W,
+                                       const std::vector<std::string>& types) const {
+  CostShaping out;
+  const std::string active = active_stage(p_W, types);
+  if (active.empty()) return out;
+  const auto rank = [&](const std::string& type) {
+    const auto it = std::find(spec_.stages.begin(), spec_.stages.end(), type);
+    // A type outside the order is sorted with the active stage.
+    return it == spec_.stages.end() ? -1 : static_cast<int>(it - spec_.stages.begin());
+  };
+  const int active_rank = rank(active);
+  out.weights.assign(p_W.size(), 1.0);
+  out.reach_m.assign(p_W.size(), std::numeric_limits<double>::infinity());
+  for (size_t j = 0; j < p_W.size(); ++j) {
+    if (rank(types[j]) > active_rank) {
+      out.weights[j] = spec_.deferred_weight;
+      out.reach_m[j] = spec_.reach_m;
+    }
+  }
+  return out;
 }
 
 }  // namespace airtwin

@@ -9,7 +9,14 @@
 //    to it is below switch_distance_m (6.3 cm). Done when the last reference is reached.
 //  - aggregation: every object's reference is the zone's centre; done when all are in the zone.
 //  - sorting: each object's reference is the centre of the zone of its type; done when every
-//    object is in its zone.
+//    object is in its zone. Optionally in stages (not in the paper): one type after the other,
+//    the objects that need the strongest air first. While a type's objects are not all in their
+//    zone, the types after it are deferred: their terms of eq. (10) weigh deferred_weight and
+//    they should stay within reach_m of the point below the nozzle (controller/cem_planner.h).
+//    Why: a push strong enough to move tracers (2.0 m/s of air to start, eq. 8) moves cotton
+//    (1.19 m/s) out to about a metre from s, so tracers cannot be moved without moving the cotton
+//    already placed; cotton can be moved with s far enough from the tracers' zone that their air
+//    stays below 2.0 m/s. docs/controller.md has the measurements.
 //
 // Plain data (TaskSpec, Zone) plus one stateful tracker per run (TaskProgress); no dependence on
 // how positions were obtained.
@@ -53,6 +60,16 @@ struct TaskSpec {
   // --- sorting ---
   /// The zone of each object type ("tracer", "cotton").
   std::map<std::string, Zone> zones_by_type;
+  /// Sorting in stages (see above). stages_auto (the default): the controller orders the types
+  /// by their eq. (8) threshold air speed, highest first (resolve_sorting_stages). Otherwise the
+  /// types in the order they are sorted; empty: all at once, as the paper does.
+  bool stages_auto = true;
+  std::vector<std::string> stages;
+  /// The weight in eq. (10) of a deferred object, in (0, 1].
+  double deferred_weight = 0.1;
+  /// How far (m) from the point below the nozzle a deferred object should stay: the nozzle must
+  /// still be able to put s beyond it to bring it back (s reaches 1.65 m at 60 deg of tilt).
+  double reach_m = 1.0;
 
   /// The run fails when the task is not done by then (s of simulated or rig time).
   double time_limit_s = 300.0;
@@ -60,6 +77,19 @@ struct TaskSpec {
   /// Throws InputError naming `source` and the field when the spec cannot be run (too few path
   /// vertices, non-finite or non-positive sizes, a sorting task without zones).
   void validate(const std::string& source) const;
+};
+
+/// A sorting task's stages made explicit: with stages_auto, the zones' types ordered by
+/// threshold air speed (ObjectDynamics::threshold_air_speed, highest first; ties by name), given
+/// each type's threshold; otherwise `spec` unchanged. Throws InputError when a zone's type has no
+/// threshold.
+TaskSpec resolve_sorting_stages(const TaskSpec& spec,
+                                const std::map<std::string, double>& threshold_air_speed_mps);
+
+/// The weights and reaches of eq. (10) for one decision (controller/cem_planner.h).
+struct CostShaping {
+  std::vector<double> weights;  ///< empty: all 1
+  std::vector<double> reach_m;  ///< empty: no limit
 };
 
 /// The references along a path task: every reference_spacing_m along the polyline (or its
@@ -89,6 +119,14 @@ class TaskProgress {
 
   /// The reference point r_j of each object (of type types[j]) for the next decision (eq. 10).
   std::vector<Eigen::Vector2d> references(const std::vector<std::string>& types) const;
+  /// The weights and reaches of eq. (10) for objects at p_W of types `types`: empty for
+  /// every task but sorting in stages.
+  CostShaping cost_shaping(const std::vector<Eigen::Vector2d>& p_W,
+                           const std::vector<std::string>& types) const;
+  /// Sorting in stages: the type being sorted now (the first in the order with an object out of
+  /// its zone; the last when all are in), else "".
+  std::string active_stage(const std::vector<Eigen::Vector2d>& p_W,
+                           const std::vector<std::string>& types) const;
   /// Index of the current path reference and their count (0 / 0 for zone tasks).
   size_t reference_index() const { return reference_index_; }
   size_t reference_count() const { return references_.size(); }

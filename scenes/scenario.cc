@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -288,7 +289,7 @@ Zone read_zone(const Reader& r, const Field& f) {
 TaskSpec read_task(const Reader& r, const Field& f, const std::vector<ObjectSpec>& objects) {
   const MapFields m(r, f,
                     {"kind", "path", "closed", "references", "spacing_m", "switch_distance_m",
-                     "zone", "zones", "time_limit_s"});
+                     "zone", "zones", "stages", "deferred_weight", "reach_m", "time_limit_s"});
   TaskSpec task;
   const std::string kind = r.choice(m.required("kind"), {"path", "aggregation", "sorting"});
   task.kind = kind == "path"          ? TaskKind::kPath
@@ -304,7 +305,11 @@ TaskSpec read_task(const Reader& r, const Field& f, const std::vector<ObjectSpec
     }
   }
   if (task.kind != TaskKind::kAggregation) m.forbid("zone", not_for);
-  if (task.kind != TaskKind::kSorting) m.forbid("zones", not_for);
+  if (task.kind != TaskKind::kSorting) {
+    for (const char* key : {"zones", "stages", "deferred_weight", "reach_m"}) {
+      m.forbid(key, not_for);
+    }
+  }
 
   switch (task.kind) {
     case TaskKind::kPath: {
@@ -353,6 +358,32 @@ TaskSpec read_task(const Reader& r, const Field& f, const std::vector<ObjectSpec
                      "', need a zone)");
         }
       }
+      // stages: auto (default) | none | [type, ...] (controller/task.h).
+      if (auto stages = m.optional("stages")) {
+        if (stages->node.IsScalar()) {
+          task.stages_auto = r.choice(*stages, {"auto", "none"}) == "auto";
+        } else if (stages->node.IsSequence() && stages->node.size() > 0) {
+          task.stages_auto = false;
+          for (size_t i = 0; i < stages->node.size(); ++i) {
+            const Field type{stages->node[i], element_path(stages->path, i)};
+            const std::string name = r.choice(type, {"tracer", "cotton"});
+            if (!task.zones_by_type.count(name)) r.fail(type, "no zone is given for " + name);
+            if (std::find(task.stages.begin(), task.stages.end(), name) != task.stages.end()) {
+              r.fail(type, "names " + name + " a second time");
+            }
+            task.stages.push_back(name);
+          }
+        } else {
+          r.expected(*stages, "auto | none | a list of object types");
+        }
+      }
+      if (auto w = m.optional("deferred_weight")) {
+        task.deferred_weight = r.number(*w, "a number in (0, 1]");
+        if (!(task.deferred_weight > 0.0 && task.deferred_weight <= 1.0)) {
+          r.expected(*w, "a number in (0, 1]");
+        }
+      }
+      if (auto reach = m.optional("reach_m")) task.reach_m = r.in_range(*reach, 0.05, 5.0, " m");
       break;
     }
   }
@@ -368,7 +399,8 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
     m.emplace(r, *f,
               std::initializer_list<const char*>{"search", "horizon_s", "penalty", "min_distance_m",
                                                  "mean0_m", "variance0_m2", "samples", "elite",
-                                                 "max_iterations", "converged_variance_m2"});
+                                                 "max_iterations", "converged_variance_m2",
+                                                 "scan_step_m"});
     if (auto s = m->optional("search")) {
       search = r.choice(*s, {"line", "plane"}) == "line" ? CemSearch::kLine : CemSearch::kPlane;
     }
@@ -384,6 +416,15 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
   if (auto v = m->optional("samples")) p.samples = r.integer(*v, 2, 100000);
   if (auto v = m->optional("max_iterations")) p.max_iterations = r.integer(*v, 1, 1000);
   if (auto v = m->optional("converged_variance_m2")) p.converged_variance_m2 = r.positive(*v);
+  if (auto v = m->optional("scan_step_m")) {
+    p.scan_step_m = r.in_range(*v, 0.0, 1.0, " m");
+    if (p.scan_step_m > 0.0 && p.scan_step_m < 0.01) {
+      r.expected(*v, "0 (no scan) or a pitch of at least 0.01 m");
+    }
+    if (p.scan_step_m > 0.0 && search != CemSearch::kPlane) {
+      r.fail(*v, "the scan applies to the plane search only");
+    }
+  }
   // n* must leave a choice among the n samples.
   if (auto v = m->optional("elite")) p.elite = r.integer(*v, 1, p.samples);
   if (!(p.elite >= 1 && p.elite <= p.samples)) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "common/errors.h"
@@ -193,6 +194,90 @@ TEST_F(CemPlannerTest, PlaneSearchBeatsDoingNothingWhenItCan) {
   const PlanResult result = planner.plan(problem(), rng);
   EXPECT_LT(result.cost, 0.3 - 0.05);
   EXPECT_GE((result.stagnation_W - p_[0]).norm(), params.min_distance_m);
+}
+
+// Weights and reaches against the definition: the weighted sum of the unweighted planner's
+// distances (same predictions: the ends do not depend on the weights), plus kOutOfReachCost per
+// metre an end lies beyond its reach from the point below the nozzle.
+TEST_F(CemPlannerTest, WeightsAndReachesShapeEquationTen) {
+  const CemPlanner planner(model_, CemParameters::plane_defaults());
+  const Eigen::Vector2d s(0.55, 0.0);
+  std::vector<Eigen::Vector2d> ends;
+  const double plain = planner.cost(problem(), s, &ends);
+  ASSERT_LT(plain, 1e3);
+  ASSERT_EQ(ends.size(), 3u);
+  const std::vector<double> w = {0.1, 1.0, 0.5};
+  // The third object's end lies somewhere past 10 cm from the origin; a reach 5 cm shorter
+  // than that costs 10 x 0.05 m. The others are unlimited.
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> reach = {inf, inf, ends[2].norm() - 0.05};
+  ASSERT_GT(reach[2], 0.0);
+  PlanningProblem pr = problem();
+  pr.weights = w;
+  pr.reach_m = reach;
+  double expected = 0.0;
+  for (size_t j = 0; j < 3; ++j) expected += w[j] * (ends[j] - r_[j]).norm();
+  expected += kOutOfReachCost * 0.05;
+  EXPECT_NEAR(planner.cost(pr, s), expected, 1e-12);
+  // Unit weights and no reach: eq. (10) itself, to the bit.
+  const std::vector<double> ones(3, 1.0);
+  pr.weights = ones;
+  pr.reach_m = {};
+  EXPECT_EQ(planner.cost(pr, s), plain);
+  // Sizes must match; weights are finite and >= 0, reaches > 0.
+  const std::vector<double> two = {1.0, 1.0};
+  pr.weights = two;
+  EXPECT_THROW(planner.cost(pr, s), InputError);
+  const std::vector<double> negative = {1.0, -0.1, 1.0};
+  pr.weights = negative;
+  EXPECT_THROW(planner.cost(pr, s), InputError);
+  const std::vector<double> zero_reach = {1.0, 0.0, 1.0};
+  pr.weights = {};
+  pr.reach_m = zero_reach;
+  EXPECT_THROW(planner.cost(pr, s), InputError);
+}
+
+// The scan: an object whose only useful push comes from far beyond it. A tracer 0.9 m out,
+// its reference 0.6 m farther out: s must lie on the near side, 0.2-0.5 m from it, i.e.
+// 0.4-0.7 m from the object's mean (the paper's mu0), where the paper's sigma of 5.6 cm never
+// samples. With the scan the decision is at least as cheap as the scan's best grid point
+// (computed here with cost() on the same grid) and moves the tracer most of the way.
+TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
+  p_ = {{0.9, 0.0}};
+  v_ = {{0.0, 0.0}};
+  xi_ = {kTracerDynamics};
+  r_ = {{1.5, 0.0}};
+  CemParameters paper = CemParameters::plane_defaults();
+  const CemPlanner plain(model_, paper);
+  RandomStream rng1(1, RandomPurpose::kController, 0);
+  const PlanResult without = plain.plan(problem(), rng1);
+
+  CemParameters scanned = paper;
+  scanned.scan_step_m = 0.1;
+  const CemPlanner planner(model_, scanned);
+  double grid_best = 1e9;
+  const double r_max = max_stagnation_radius(model_.geometry());
+  for (int iy = -20; iy <= 20; ++iy) {
+    for (int ix = -20; ix <= 20; ++ix) {
+      const Eigen::Vector2d s(ix * 0.1, iy * 0.1);
+      if (s.norm() <= r_max) grid_best = std::min(grid_best, planner.cost(problem(), s));
+    }
+  }
+  RandomStream rng2(1, RandomPurpose::kController, 0);
+  const PlanResult with = planner.plan(problem(), rng2);
+  EXPECT_LE(with.cost, grid_best);
+  EXPECT_LT(with.cost, 0.3);  // from 0.6 m
+  EXPECT_GT(without.cost, with.cost + 0.2);
+  EXPECT_GT(with.evaluations, 300);  // the scan's points count
+  // Deterministic: the scan draws nothing.
+  RandomStream rng3(1, RandomPurpose::kController, 0);
+  EXPECT_EQ(planner.plan(problem(), rng3).stagnation_W, with.stagnation_W);
+  // The scan belongs to the plane search; a pitch below 1 cm is refused.
+  CemParameters line = CemParameters::line_defaults();
+  line.scan_step_m = 0.1;
+  EXPECT_THROW(line.validate("x.yaml"), InputError);
+  scanned.scan_step_m = 0.001;
+  EXPECT_THROW(scanned.validate("x.yaml"), InputError);
 }
 
 TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "common/errors.h"
+#include "models/object_dynamics.h"
 
 namespace airtwin {
 namespace {
@@ -120,6 +122,57 @@ TEST(TaskProgress, ZonesPerTypeAndAggregation) {
   const auto r = a.references({"tracer", "cotton"});
   EXPECT_EQ(r[0], Eigen::Vector2d::Zero());
   EXPECT_EQ(r[1], Eigen::Vector2d::Zero());
+}
+
+// Sorting in stages: the type that needs the strongest air first (tracer 2.0 m/s against cotton
+// 1.19 m/s with the paper's coefficients); while a tracer is out of its zone the cottons are
+// deferred (weight, reach); once all tracers are in, every object weighs 1 again.
+TEST(TaskProgress, SortingInStagesDefersTheTypesAfterTheActiveOne) {
+  TaskSpec sort;
+  sort.kind = TaskKind::kSorting;
+  sort.zones_by_type = {{"tracer", Zone{{-0.6, 0}, 0.105}}, {"cotton", Zone{{0.6, 0}, 0.105}}};
+  sort.deferred_weight = 0.2;
+  sort.reach_m = 0.9;
+  ASSERT_TRUE(sort.stages_auto);  // the default
+  const TaskSpec resolved = resolve_sorting_stages(
+      sort, {{"tracer", kTracerDynamics.threshold_air_speed()},
+             {"cotton", kCottonDynamics.threshold_air_speed()}});
+  EXPECT_FALSE(resolved.stages_auto);
+  EXPECT_EQ(resolved.stages, (std::vector<std::string>{"tracer", "cotton"}));
+  // Reversed thresholds, reversed order.
+  EXPECT_EQ(resolve_sorting_stages(sort, {{"tracer", 1.0}, {"cotton", 2.0}}).stages,
+            (std::vector<std::string>{"cotton", "tracer"}));
+  EXPECT_THROW(resolve_sorting_stages(sort, {{"tracer", 1.0}}), InputError);
+
+  TaskProgress progress(resolved);
+  const std::vector<std::string> types = {"tracer", "cotton", "tracer"};
+  const std::vector<Eigen::Vector2d> one_out = {{-0.6, 0.0}, {0.0, 0.0}, {0.0, 0.3}};
+  EXPECT_EQ(progress.active_stage(one_out, types), "tracer");
+  CostShaping c = progress.cost_shaping(one_out, types);
+  EXPECT_EQ(c.weights, (std::vector<double>{1.0, 0.2, 1.0}));
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(c.reach_m, (std::vector<double>{inf, 0.9, inf}));
+  // All tracers in: the cottons' stage; nothing deferred.
+  const std::vector<Eigen::Vector2d> tracers_in = {{-0.6, 0.0}, {0.0, 0.0}, {-0.55, 0.05}};
+  EXPECT_EQ(progress.active_stage(tracers_in, types), "cotton");
+  c = progress.cost_shaping(tracers_in, types);
+  EXPECT_EQ(c.weights, (std::vector<double>(3, 1.0)));
+  EXPECT_EQ(c.reach_m, (std::vector<double>(3, inf)));
+
+  // `stages: none` (an empty explicit order) is the paper's: no shaping at all.
+  TaskSpec all_at_once = sort;
+  all_at_once.stages_auto = false;
+  const TaskProgress plain(resolve_sorting_stages(all_at_once, {}));
+  EXPECT_TRUE(plain.cost_shaping(one_out, types).weights.empty());
+  EXPECT_EQ(plain.active_stage(one_out, types), "");
+  // An explicit order naming a type without a zone, or twice, is refused.
+  all_at_once.stages = {"tracer", "glass"};
+  EXPECT_THROW(all_at_once.validate("x.yaml"), InputError);
+  all_at_once.stages = {"tracer", "tracer"};
+  EXPECT_THROW(all_at_once.validate("x.yaml"), InputError);
+  all_at_once.stages = {"cotton"};
+  all_at_once.deferred_weight = 0.0;
+  EXPECT_THROW(all_at_once.validate("x.yaml"), InputError);
 }
 
 TEST(TaskSpec, ValidateNamesTheField) {

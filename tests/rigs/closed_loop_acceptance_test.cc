@@ -1,7 +1,7 @@
 // Closed-loop acceptance in the default twin (fast mode: the controller sees the twin's truth),
 // 10 seeds per scenario, against the paper's section V and Table I. Label `closedloop`, Release.
-// What is asserted is what the twin achieves today; what it does not (sorting) is measured in
-// docs/controller.md and left out here.
+// What is asserted is what the twin achieves today; where that falls short of the issue (sorting:
+// 8 of 10 asserted, 9 asked) the test says so and docs/controller.md has the measurements.
 
 #include <gtest/gtest.h>
 
@@ -72,6 +72,18 @@ TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
   const Tally t = run_seeds("aggregation", 10);
   EXPECT_GE(t.success, 9);
   EXPECT_LE(t.worst_time_s, 150.0);  // every successful run (paper: 105 s)
+}
+
+// Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks
+// for 9 of 10 within 60 s (paper: 40 s). Measured: 10/10 on seeds 1-10, 25/30 on seeds 1-30
+// (docs/controller.md); asserted: 8 of 10, the rate over 30 seeds with a one-run margin, and
+// the median run within 1.5x the paper's time. Every success is within the 60 s limit by
+// definition of the run.
+TEST(ClosedLoopAcceptance, SortingByTypeInStages) {
+  const Tally t = run_seeds("sorting", 10);
+  EXPECT_GE(t.success, 8);
+  EXPECT_LE(t.median_time_s, 1.5 * 40.0);
+  EXPECT_LE(t.worst_time_s, 60.0);
 }
 
 TEST(ClosedLoopAcceptance, SingleTracerPathsAsTableI) {

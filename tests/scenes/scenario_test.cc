@@ -61,6 +61,7 @@ void expect_same(const CemParameters& a, const CemParameters& b) {
   EXPECT_EQ(a.elite, b.elite);
   EXPECT_EQ(a.max_iterations, b.max_iterations);
   EXPECT_EQ(a.converged_variance_m2, b.converged_variance_m2);
+  EXPECT_EQ(a.scan_step_m, b.scan_step_m);
 }
 
 // The single-tracer files retune Sigma0 for the twin's field (docs/controller.md).
@@ -194,7 +195,14 @@ TEST(Scenario, SortingMixesThreeOfEachBetweenTwoZones) {
     EXPECT_LT((o.p_W - tracer.centre_W).norm(), 1.25) << o.id;
     EXPECT_LT((o.p_W - cotton.centre_W).norm(), 1.25) << o.id;
   }
-  expect_same(s.controller, CemParameters::plane_defaults());
+  // In stages, tracers first, with the plane search started from a scan (docs/controller.md).
+  EXPECT_TRUE(s.task.stages_auto);
+  EXPECT_DOUBLE_EQ(s.task.deferred_weight, 0.1);
+  EXPECT_DOUBLE_EQ(s.task.reach_m, 1.0);
+  CemParameters expected = CemParameters::plane_defaults();
+  expected.scan_step_m = 0.1;
+  expected.variance0_m2 = 0.005;
+  expect_same(s.controller, expected);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -232,6 +240,33 @@ TEST(ScenarioDefaults, OmittedKeysTakeThePapersValuesForTheTask) {
 
   const Scenario sorting = parse_scenario(kSortingTask, "s.yaml");
   expect_same(sorting.controller, CemParameters::plane_defaults());
+  EXPECT_TRUE(sorting.task.stages_auto);
+  EXPECT_TRUE(sorting.task.stages.empty());
+  EXPECT_DOUBLE_EQ(sorting.task.deferred_weight, 0.1);
+  EXPECT_DOUBLE_EQ(sorting.task.reach_m, 1.0);
+}
+
+// task.stages: auto | none | a list of types, each with a zone, once.
+TEST(ScenarioDefaults, SortingStagesAreAutoNoneOrAList) {
+  auto with = [](const std::string& line) {
+    std::string text = kSortingTask;
+    const std::string key = "  time_limit_s: 60\n";
+    text.replace(text.find(key), key.size(), line + "\n" + key);
+    return parse_scenario(text, "s.yaml");
+  };
+  const Scenario none = with("  stages: none");
+  EXPECT_FALSE(none.task.stages_auto);
+  EXPECT_TRUE(none.task.stages.empty());
+  const Scenario list = with("  stages: [cotton, tracer]");
+  EXPECT_FALSE(list.task.stages_auto);
+  EXPECT_EQ(list.task.stages, (std::vector<std::string>{"cotton", "tracer"}));
+  EXPECT_DOUBLE_EQ(with("  reach_m: 0.8").task.reach_m, 0.8);
+  EXPECT_DOUBLE_EQ(with("  deferred_weight: 0.3").task.deferred_weight, 0.3);
+  EXPECT_EQ(with("  stages: auto").task.stages_auto, true);
+  const CemParameters scanned =
+      parse_scenario(std::string(kSortingTask) + "controller: {scan_step_m: 0.05}\n", "s.yaml")
+          .controller;
+  EXPECT_DOUBLE_EQ(scanned.scan_step_m, 0.05);
 }
 
 TEST(ScenarioDefaults, KeysOverrideTheDefaultsOfTheSearchInForce) {
@@ -380,6 +415,31 @@ TEST(ScenarioErrors, OutOfRangeValuesSayTheRange) {
                               "  - {id: a, type: tracer, x: 0.1, y: 0.2}\n"
                               "  - {id: b, type: cotton, x: 0.13, y: 0.2}"),
                3, "objects[1]", "overlaps objects[0] (id 'a')");
+}
+
+// Sorting in stages and the scan: wrong values name their key (kSortingTask's line 9 is its
+// time limit; the new line goes before it).
+TEST(ScenarioErrors, SortingStagesAndScanNameTheKey) {
+  auto sorting_with = [](const std::string& line) {
+    std::string text = kSortingTask;
+    const std::string key = "  time_limit_s: 60\n";
+    text.replace(text.find(key), key.size(), line + "\n" + key);
+    return text;
+  };
+  expect_error(sorting_with("  stages: [tracer, glass]"), 9, "task.stages[1]",
+               "expected tracer | cotton, got 'glass'");
+  expect_error(sorting_with("  stages: [tracer, tracer]"), 9, "task.stages[1]",
+               "names tracer a second time");
+  expect_error(sorting_with("  stages: first"), 9, "task.stages", "expected auto | none");
+  expect_error(sorting_with("  deferred_weight: 0"), 9, "task.deferred_weight",
+               "expected a number in (0, 1]");
+  expect_error(sorting_with("  reach_m: -1"), 9, "task.reach_m", "got '-1'");
+  expect_error(path_task_with(4, "  kind: path\n  reach_m: 1.0"), 5, "task.reach_m",
+               "not used by a path task");
+  expect_error(std::string(kPathTask) + "controller: {scan_step_m: 0.1}\n", 7,
+               "controller.scan_step_m", "plane search only");
+  expect_error(std::string(kSortingTask) + "controller: {scan_step_m: 0.001}\n", 10,
+               "controller.scan_step_m", "at least 0.01 m");
 }
 
 TEST(ScenarioErrors, SyntaxErrorsAndUnreadableFilesAreOneLine) {
