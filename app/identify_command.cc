@@ -26,6 +26,7 @@ struct IdentifyArgs {
   std::string out;
   bool no_glitch_repair = false;
   double max_direction_error_deg = 30.0;
+  std::string terms;
   IdentificationOptions options;
 };
 
@@ -49,6 +50,20 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
     first = false;
   }
   if (first) std::printf(" 0");
+  // Every term with a factor v: dv/dt = 0 at v = 0, the model never sets a resting object in
+  // motion, though Appendix D releases every object from rest.
+  bool starts_from_rest = false;
+  for (int j = 0; j < kSindyTerms; ++j) {
+    const std::string name = kTermNames[j];
+    if (m.coefficients[j] != 0.0 && (name == "1" || name.rfind("vair", 0) == 0)) {
+      starts_from_rest = true;
+    }
+  }
+  if (!first && !starts_from_rest) {
+    std::printf(
+        "\n  note: every term has a factor v, so this model cannot set an object at rest in motion;"
+        "\n  if the structure is known, --terms 1,v,vair fits eq. (8)'s (docs/identification.md)");
+  }
   std::printf("\n  R^2 = %.3f (of v_{k+1}; of the one-step change: %.3f)", m.r2, m.r2_change);
   if (m.end_position_mape_pct) {
     std::printf(", end-position MAPE = %.1f%% over %zu trajectories", *m.end_position_mape_pct,
@@ -62,6 +77,7 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
 void run_identify(IdentifyArgs a) {
   IdentificationOptions& o = a.options;
   o.sindy.method = parse_sindy_method(a.method);
+  if (!a.terms.empty()) o.sindy.terms = parse_sindy_terms(a.terms);
   o.pairs.repair_glitches = !a.no_glitch_repair;
   require_range(o.sindy.lambda, 0, 10, "--lambda", "a threshold in [0, 10]");
   require_range(o.sindy.bootstraps, 1, 10000, "--bootstraps", "a count in [1, 10000]");
@@ -152,6 +168,10 @@ void add_identify_command(CLI::App& app) {
                   "Moving samples more than this (deg) off the radial direction from s are not "
                   "used (eq. 9); 180 keeps all")
       ->capture_default_str();
+  sub->add_option("--terms", args->terms,
+                  "Library terms the regression may use, comma-separated (default: all ten), e.g.\n"
+                  "1,v,vair for eq. (8)'s structure when the data cannot tell structures apart\n"
+                  "(docs/identification.md); must include v");
   sub->add_flag("--no-glitch-repair", args->no_glitch_repair,
                 "Do not repair single-frame position glitches before differencing");
   sub->callback([args] { run_identify(*args); });

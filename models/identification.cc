@@ -29,6 +29,9 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
   m.transient_s = o.pairs.transient_s;
   m.dt_s = d.dt_s;
   m.lambda = o.sindy.lambda;
+  m.library.clear();
+  for (int j = 0; j < kSindyTerms; ++j)
+    if (o.sindy.terms[j]) m.library.push_back(kTermNames[j]);
   m.bootstraps =
       o.sindy.method == SindyMethod::kEsindy || o.sindy.method == SindyMethod::kRobustEsindy
           ? o.sindy.bootstraps

@@ -1,5 +1,6 @@
 #include "models/identified_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -88,6 +89,7 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["transient_s"] = m.transient_s;
   j["dt_s"] = m.dt_s;
   j["lambda"] = m.lambda;
+  j["library"] = m.library;
   j["bootstraps"] = m.bootstraps;
   j["seed"] = m.seed;
   j["smoothing_half_window"] = m.smoothing_half_window;
@@ -174,6 +176,24 @@ IdentifiedModel parse_identified_model_json(const std::string& text, const std::
   m.n_mape_excluded = count("n_mape_excluded");
   if (j.contains("dt_s")) m.dt_s = number(j.at("dt_s"), "dt_s");
   if (j.contains("lambda")) m.lambda = number(j.at("lambda"), "lambda");
+  // Files written before the key existed used the whole library.
+  m.library.assign(kTermNames.begin(), kTermNames.end());
+  if (j.contains("library")) {
+    const auto& lib = j.at("library");
+    bool ok = lib.is_array() && !lib.empty();
+    std::vector<std::string> names;
+    for (const auto& t : lib) {
+      if (!t.is_string() ||
+          std::find(kTermNames.begin(), kTermNames.end(), t.get<std::string>()) ==
+              kTermNames.end()) {
+        ok = false;
+        break;
+      }
+      names.push_back(t.get<std::string>());
+    }
+    if (!ok) throw InputError(source + ": key 'library': expected a list of library term names");
+    m.library = names;
+  }
   if (j.contains("source") && j.at("source").is_string()) m.source = j.at("source");
   return m;
 }

@@ -8,7 +8,7 @@
 // speed series has no positions), n_samples, n_dropped; then the details: eq8 ({xi1, xi2, xi3}
 // when only the terms 1, v, vair are active, else null), r2_change, end_position_mape_by_tilt,
 // n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories, n_glitches_repaired,
-// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, bootstraps, seed, smoothing_half_window, position_noise_m,
+// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, library, bootstraps, seed, smoothing_half_window, position_noise_m,
 // positions_smoothed, stationary_speed_mps, source.
 
 #include <Eigen/Core>
@@ -16,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "models/object_dynamics.h"
 #include "models/sindy.h"
@@ -41,6 +42,8 @@ struct IdentifiedModel {
   size_t n_mape_trajectories = 0, n_mape_excluded = 0;
   double dt_s = 0.0;
   double lambda = 0.0;
+  /// The library terms the regression was allowed (SindyOptions::terms); all ten by default.
+  std::vector<std::string> library{kTermNames.begin(), kTermNames.end()};
   int bootstraps = 0;
   std::uint64_t seed = 0;
   int smoothing_half_window = 0;

@@ -55,8 +55,9 @@ Coefficients least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
 // The fixed point meets STLSQ's condition: every kept |xi_d| >= lambda.
 Coefficients stlsq(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const SindyOptions& o,
                    bool robust, Eigen::VectorXd* w) {
-  std::vector<int> active(kSindyTerms);
-  for (int j = 0; j < kSindyTerms; ++j) active[j] = j;
+  std::vector<int> active;
+  for (int j = 0; j < kSindyTerms; ++j)
+    if (o.terms[j]) active.push_back(j);
   Coefficients xi = least_squares(X, y, active, robust, w);
   while (true) {
     auto weakest = active.end();
@@ -131,6 +132,31 @@ Eigen::Matrix<double, 1, kSindyTerms> sindy_library_row(double v, double va) {
 
 double sindy_rate(const Coefficients& xi, double v, double va) {
   return sindy_library_row(v, va).dot(xi.transpose());
+}
+
+std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list) {
+  std::array<bool, kSindyTerms> mask{};
+  std::string known;
+  for (const char* name : kTermNames) known += (known.empty() ? "" : ", ") + std::string(name);
+  size_t begin = 0;
+  while (begin <= list.size()) {
+    const size_t end = std::min(list.find(',', begin), list.size());
+    const std::string name = list.substr(begin, end - begin);
+    const auto it = std::find(kTermNames.begin(), kTermNames.end(), name);
+    if (it == kTermNames.end()) {
+      throw UsageError("--terms: unknown term '" + name + "' (the library: " + known + ")");
+    }
+    bool& used = mask[static_cast<size_t>(it - kTermNames.begin())];
+    if (used) throw UsageError("--terms: '" + name + "' given twice");
+    used = true;
+    begin = end + 1;
+  }
+  if (!mask[kV]) {
+    throw UsageError(
+        "--terms must include v: it carries the persistence v_{k+1} ~ v_k of the discrete-time "
+        "regression (eq. 6)");
+  }
+  return mask;
 }
 
 SindyMethod parse_sindy_method(const std::string& name) {

@@ -45,8 +45,17 @@ enum class SindyMethod { kStlsq, kEsindy, kRobust, kRobustEsindy };
 SindyMethod parse_sindy_method(const std::string& name);
 const char* sindy_method_name(SindyMethod m);
 
+/// Library terms by name ("1,v,vair"): a mask over kTermNames. Throws UsageError naming an
+/// unknown or repeated term, or a list without "v" (in discrete time v carries the persistence
+/// v_{k+1} ~ v_k of eq. 6, so no model is possible without it).
+std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list);
+
 struct SindyOptions {
   SindyMethod method = SindyMethod::kRobustEsindy;
+  /// The library terms the regression may use (all by default). Fewer: prior knowledge of the
+  /// structure, e.g. {1, v, vair} for eq. (8) when the data cannot tell structures apart.
+  std::array<bool, kSindyTerms> terms = {true, true, true, true, true,
+                                         true, true, true, true, true};
   double lambda = 0.07;  ///< threshold on discrete-time coefficients
   int bootstraps = 15;
   std::uint64_t seed = 1;

@@ -107,6 +107,9 @@ TEST_F(IdentifyCli, BadInputIsOneClearLine) {
   expect_failure("identify " + d + "/tracer.csv --method lasso --out x.json", 2, "--method");
   expect_failure("identify " + d + "/tracer.csv --lambda nan --out x.json", 2, "--lambda");
   expect_failure("identify " + d + "/tracer.csv --bootstraps 0 --out x.json", 2, "--bootstraps");
+  expect_failure("identify " + d + "/tracer.csv --terms 1,vair --out x.json", 2, "must include v");
+  expect_failure("identify " + d + "/tracer.csv --terms 1,v,w --out x.json", 2,
+                 "unknown term 'w'");
   expect_failure("identify " + d + "/missing.csv --out x.json", 1, "missing.csv");
   expect_failure("identify " + d + "/tracer.csv --object pebble --out x.json", 1, "pebble");
   write(d + "/bad.csv", "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"

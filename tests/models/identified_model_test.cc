@@ -74,6 +74,22 @@ TEST(IdentifiedModel, ExtraTermsAreNotEq8) {
   EXPECT_TRUE(j["eq8"].is_null());
 }
 
+// The library the regression was allowed (--terms) is kept; a file without the key (written
+// before it existed) used all ten terms; a wrong list names the key.
+TEST(IdentifiedModel, LibraryRoundTripsAndDefaultsToAllTerms) {
+  IdentifiedModel m = tracer_model();
+  m.library = {"1", "v", "vair"};
+  EXPECT_EQ(parse_identified_model_json(identified_model_json(m), "m.json").library, m.library);
+  auto j = nlohmann::ordered_json::parse(identified_model_json(m));
+  j.erase("library");
+  EXPECT_EQ(parse_identified_model_json(j.dump(), "m.json").library,
+            std::vector<std::string>(kTermNames.begin(), kTermNames.end()));
+  j["library"] = {"1", "w"};
+  EXPECT_THROW(parse_identified_model_json(j.dump(), "m.json"), InputError);
+  j["library"] = nlohmann::ordered_json::array();
+  EXPECT_THROW(parse_identified_model_json(j.dump(), "m.json"), InputError);
+}
+
 TEST(IdentifiedModel, BadFilesNameTheKey) {
   auto error_of = [](const std::string& text) -> std::string {
     try {
