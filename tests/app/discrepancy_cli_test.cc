@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -56,6 +58,12 @@ json analyse(const std::string& csv, const std::string& out) {
   return json::parse(read_file(out + "/report.json"));
 }
 
+// A slope of `angle_deg` toward `direction_deg` as the vector angle (cos dir, sin dir), deg.
+Eigen::Vector2d slope_vector(double angle_deg, double direction_deg) {
+  const double d = direction_deg * M_PI / 180.0;
+  return angle_deg * Eigen::Vector2d(std::cos(d), std::sin(d));
+}
+
 struct Hidden {
   std::string name;
   // key -> (lo, hi) of the drawn magnitude; a negative-capable key draws its sign too.
@@ -86,9 +94,14 @@ void expect_found(const Hidden& h, int seed) {
     const std::string key = std::get<0>(h.params[i]);
     const double fitted = r["extensions"][h.name][key].get<double>();
     if (key == "direction_deg") {
-      // An angle: compare on the circle, within the tolerance of a full turn's share.
-      const double d = std::remainder(fitted - truth[i], 360.0);
-      EXPECT_LE(std::abs(d), h.tolerance[i] * 360.0) << key << " fitted " << fitted;
+      // A slope is a vector (its downhill pull): its direction has no scale of its own, so the
+      // fitted pull must lie within the tolerance of the true pull's length (20 %: a direction
+      // within asin(0.2) = 11.5 deg when the angle is exact).
+      const double a_fit = r["extensions"][h.name]["angle_deg"].get<double>();
+      const double d = (slope_vector(a_fit, fitted) - slope_vector(truth[0], truth[i]))
+                           .norm();
+      EXPECT_LE(d, h.tolerance[i] * truth[0]) << "slope pull " << a_fit << " deg toward " << fitted
+                                              << ", truth " << truth[0] << " toward " << truth[i];
     } else {
       EXPECT_LE(std::abs(fitted - truth[i]), h.tolerance[i] * std::abs(truth[i]))
           << key << " fitted " << fitted << ", truth " << truth[i];
@@ -100,10 +113,12 @@ void expect_found(const Hidden& h, int seed) {
 }
 
 TEST(DiscrepancyCli, FindsPressureGradient) {
-  // Known gap (docs/discrepancy.md): the strength comes out 15-25 % high (the twin's own push near
-  // s adds to it); the length is within 20 %.
-  expect_found({"pressure_gradient", {{"strength", 10.0, 16.0, false}, {"length", 0.15, 0.25, false}},
-                {0.3, 0.2}},
+  // Lengths from 0.18 m: the push then peaks (at length / sqrt(2)) 13 cm or more from s, near the
+  // 20 cm where Appendix D's objects start. A push confined nearer s is seen only through its
+  // tail, where strength and length trade off (10.5 m/s^2 over 0.16 m came out 13.2 over 0.148 m;
+  // docs/discrepancy.md), and the report says its strength is extrapolated.
+  expect_found({"pressure_gradient", {{"strength", 10.0, 16.0, false}, {"length", 0.18, 0.28, false}},
+                {0.2, 0.2}},
                21);
 }
 TEST(DiscrepancyCli, FindsResponseDelay) {
@@ -116,21 +131,16 @@ TEST(DiscrepancyCli, FindsQuadraticDrag) {
   expect_found({"quadratic_drag", {{"coefficient", 0.8, 1.5, false}}, {0.2}}, 24);
 }
 TEST(DiscrepancyCli, FindsFloorSlope) {
-  // Known gap (docs/discrepancy.md): the angle scatters by about +-40 % between data sets (a few
-  // degrees of slope against 8.5 m/s^2 of friction, on the twin's soft contacts); the direction
-  // is within 2 deg.
   expect_found({"floor_slope", {{"angle_deg", 3.0, 5.0, false}, {"direction_deg", 0.0, 360.0, false}},
-                {0.45, 0.02}},
+                {0.2, 0.2}},
                25);
 }
 TEST(DiscrepancyCli, FindsStiction) {
   expect_found({"stiction", {{"ratio", 1.5, 2.0, false}}, {0.2}}, 26);
 }
 TEST(DiscrepancyCli, FindsNozzleOffset) {
-  // Known gap (docs/discrepancy.md): the tilt part came out up to a third high on earlier data
-  // sets (5 % on this one), the pan part 27 % low on one closed-loop data set.
   expect_found({"nozzle_offset", {{"pan_deg", 5.0, 10.0, true}, {"tilt_deg", 3.0, 6.0, false}},
-                {0.2, 0.4}},
+                {0.2, 0.2}},
                27);
 }
 TEST(DiscrepancyCli, FindsFieldScale) {
