@@ -818,7 +818,11 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     ev.evaluate(current, held, &cur_held, nullptr);
   }
   report.found = chosen;
-  report.nuisance_static_friction_ratio = base.static_friction_ratio;
+  // (None when stiction is a cause: the ratio is then that cause's parameter.)
+  report.nuisance_static_friction_ratio =
+      std::find(chosen.begin(), chosen.end(), "stiction") == chosen.end()
+          ? base.static_friction_ratio
+          : NAN;
   // The extended model is the causes found, without the nuisance: scored as written.
   report.extensions = current;
   if (std::find(chosen.begin(), chosen.end(), "stiction") == chosen.end()) {
@@ -829,26 +833,6 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   report.extended_end_mape = end_mape(extended_held);
   report.extended_path_error = mean_path_error(extended_held, informative);
   report.gain_pct = 100.0 * (1.0 - report.extended_end_mape / report.baseline_end_mape);
-  // A push that has faded to under half its peak where the data begin is seen only through its
-  // tail, where its strength and length trade off: say so (Appendix D places objects 20-58 cm
-  // from s).
-  if (std::find(chosen.begin(), chosen.end(), "pressure_gradient") != chosen.end() &&
-      !report.residuals.empty()) {
-    std::vector<double> distance;
-    for (const ResidualSample& r : report.residuals) distance.push_back(r.distance_m);
-    const size_t k = distance.size() / 20;  // the 5th percentile
-    std::nth_element(distance.begin(), distance.begin() + static_cast<long>(k), distance.end());
-    const double l = report.extensions.push_length_m, x = distance[k] / l;
-    const double share = x * std::exp(-x * x) * std::sqrt(2.0 * std::exp(1.0));  // of the peak
-    if (x > 1.0 / std::sqrt(2.0) && share < 0.5) {
-      report.notes.push_back(
-          "pressure_gradient: the fitted push peaks " + fixed(100.0 * l / std::sqrt(2.0), 1) +
-          " cm from s, but 95 % of the recorded positions lie " + fixed(100.0 * distance[k], 1) +
-          " cm or more from s, where it has fallen to " + fixed(100.0 * share, 0) +
-          " % of its peak: the data see its tail, where a stronger, shorter push and a weaker, "
-          "longer one look alike, so its strength is an extrapolation.");
-    }
-  }
   return report;
 }
 

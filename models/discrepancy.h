@@ -131,7 +131,7 @@ struct DiscrepancyReport {
   ModelExtensions extensions;               ///< fitted jointly over the found causes
   /// The ordinary static friction (static / kinetic, within 1 + negligible_size("stiction"))
   /// that the fits carry as a nuisance, as the causes found leave it (not a cause, not in
-  /// `extensions`).
+  /// `extensions`); NaN when stiction is a cause.
   double nuisance_static_friction_ratio = 1.0;
   double extended_end_mape = 0.0;           ///< held-out, percent
   double extended_path_error = 0.0;

@@ -115,8 +115,8 @@ void expect_found(const Hidden& h, int seed) {
 TEST(DiscrepancyCli, FindsPressureGradient) {
   // Lengths from 0.18 m: the push then peaks (at length / sqrt(2)) 13 cm or more from s, near the
   // 20 cm where Appendix D's objects start. A push confined nearer s is seen only through its
-  // tail, where strength and length trade off (10.5 m/s^2 over 0.16 m came out 13.2 over 0.148 m;
-  // docs/discrepancy.md), and the report says its strength is extrapolated.
+  // tail, where strength and length trade off (10.5 m/s^2 over 0.16 m came out 10.9-13.2 over
+  // 0.148-0.152 m, depending on the fitting order; docs/discrepancy.md).
   expect_found({"pressure_gradient", {{"strength", 10.0, 16.0, false}, {"length", 0.18, 0.28, false}},
                 {0.2, 0.2}},
                21);

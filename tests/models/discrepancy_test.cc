@@ -95,7 +95,7 @@ TEST(Discrepancy, SlopeUnderOrdinaryStaticFrictionIsRecovered) {
   EXPECT_NEAR(rad_to_deg(r.extensions.slope_rad), 4.0, 0.12);  // 3 %
   EXPECT_NEAR(rad_to_deg(r.extensions.slope_direction_rad), 40.0, 2.0);
   EXPECT_NEAR(r.nuisance_static_friction_ratio, 1.2, 0.025 + 1e-9);  // one grid step
-  EXPECT_EQ(r.extensions.static_friction_ratio, 1.0);  // the nuisance is not a cause
+  EXPECT_EQ(r.extensions.static_friction_ratio, 1.0);                // the nuisance is not a cause
   // (The extended model's MAPE is not asserted here: it leaves the nuisance out, and on exact
   // data a slope alone starts some objects that static friction 1.2 holds. On twin data the
   // hidden-effect tests assert the gain.)
