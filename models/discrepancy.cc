@@ -818,16 +818,12 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     ev.evaluate(current, held, &cur_held, nullptr);
   }
   report.found = chosen;
-  // (None when stiction is a cause: the ratio is then that cause's parameter.)
-  report.nuisance_static_friction_ratio =
-      std::find(chosen.begin(), chosen.end(), "stiction") == chosen.end()
-          ? base.static_friction_ratio
-          : NAN;
-  // The extended model is the causes found, without the nuisance: scored as written.
+  // The extended model is the causes found, without the nuisance: scored as written. (No
+  // nuisance when stiction is a cause: the ratio is then that cause's parameter.)
+  const bool stiction_found = std::find(chosen.begin(), chosen.end(), "stiction") != chosen.end();
+  report.nuisance_static_friction_ratio = stiction_found ? NAN : base.static_friction_ratio;
   report.extensions = current;
-  if (std::find(chosen.begin(), chosen.end(), "stiction") == chosen.end()) {
-    report.extensions.static_friction_ratio = 1.0;
-  }
+  if (!stiction_found) report.extensions.static_friction_ratio = 1.0;
   std::vector<WindowScore> extended_held;
   ev.evaluate(report.extensions, held, &extended_held, nullptr);
   report.extended_end_mape = end_mape(extended_held);
@@ -945,10 +941,13 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
   }
   md += "Each candidate cause was fitted on the training windows and scored on the held-out ones "
         "(a cause needs delta BIC <= -10, a Wilcoxon p below the Bonferroni level and at least a "
-        "15 % lower held-out path error), each on top of an ordinary static friction fitted with "
-        "it (static / kinetic " +
-        fixed(r.nuisance_static_friction_ratio, 3) +
-        " here: a nuisance that eq. (8)'s start condition ignores, not a cause):\n\n";
+        "15 % lower held-out path error)";
+  if (std::isfinite(r.nuisance_static_friction_ratio)) {
+    md += ", each on top of an ordinary static friction fitted with it (static / kinetic " +
+          fixed(r.nuisance_static_friction_ratio, 3) +
+          " here: a nuisance that eq. (8)'s start condition ignores, not a cause)";
+  }
+  md += ":\n\n";
   md += "| candidate | parameters | held-out end MAPE % | path error gain % | delta BIC | p | cause? |\n"
         "|---|---|---|---|---|---|---|\n";
   for (const CandidateResult& c : r.candidates) {
