@@ -76,8 +76,12 @@ void run_run(const RunArgs& a) {
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
 
   std::printf("%s seed %llu: %s", scenario.name.c_str(),
-              static_cast<unsigned long long>(a.seed), result.loop.success ? "success" : "FAILED");
-  if (result.loop.completion_time_s) {
+              static_cast<unsigned long long>(a.seed), result.success ? "success" : "FAILED");
+  if (result.loop.success && !result.success) {
+    std::printf(" (the controller saw the task done; in the twin's truth only %d of %d are in"
+                " their zones)", result.objects_in_zone, result.n_objects);
+  }
+  if (result.success && result.loop.completion_time_s) {
     std::printf(" in %.1f s", *result.loop.completion_time_s);
   } else {
     std::printf(" (time limit %.0f s)", scenario.task.time_limit_s);

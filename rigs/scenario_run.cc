@@ -119,6 +119,8 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
   result.objects_in_zone = metrics.objects_in_zone();
+  result.success = result.loop.success && (scenario.task.kind == TaskKind::kPath ||
+                                           result.objects_in_zone == result.n_objects);
   double sum = 0.0;
   for (const auto& d : result.loop.decisions) {
     sum += d.decision_ms;
@@ -135,9 +137,10 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   ordered_json j;
   j["scenario"] = r.scenario;
   j["seed"] = r.seed;
-  j["success"] = r.loop.success;
-  j["completion_time_s"] =
-      r.loop.completion_time_s ? ordered_json(*r.loop.completion_time_s) : ordered_json(nullptr);
+  j["success"] = r.success;
+  j["completion_time_s"] = r.success && r.loop.completion_time_s
+                              ? ordered_json(*r.loop.completion_time_s)
+                              : ordered_json(nullptr);
   if (r.path_error_m.count > 0) {
     j["path_error_cm"] = {{"mean", 100.0 * r.path_error_m.mean},
                           {"std", 100.0 * r.path_error_m.std},
@@ -153,6 +156,7 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["end_time_s"] = r.loop.end_time_s;
   j["time_limit_s"] = time_limit_s;
   j["perception"] = r.perception;
+  j["controller_done"] = r.loop.success;
   if (r.perception == "vision") {
     const TrackerCounters& c = r.vision_counters;
     j["vision"] = {{"frames", r.vision_frames},     {"frame_ms", r.vision_frame_ms},

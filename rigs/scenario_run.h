@@ -53,6 +53,10 @@ struct ScenarioRunResult {
   std::string scenario;
   uint64_t seed = 0;
   LoopResult loop;
+  /// The run's verdict: the controller saw the task done (loop.success) and, for a zone task,
+  /// the twin's truth agrees at that moment (every object in its zone). With --vision the
+  /// controller judges from what it detects, which can put an object on a zone's edge inside.
+  bool success = false;
   ErrorStats path_error_m;
   double max_pairwise_distance_m = 0.0;
   int objects_in_zone = 0;
@@ -75,8 +79,9 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
 
 /// summary.json: scenario, seed, success, completion_time_s (null when not done),
 /// path_error_cm {mean, std, max} (null for zone tasks), max_pairwise_distance_cm,
-/// objects_in_zone, n_objects, decisions, decision_ms {mean, max}, then end_time_s and
-/// time_limit_s. 2-space indented.
+/// objects_in_zone, n_objects, decisions, decision_ms {mean, max}, then end_time_s,
+/// time_limit_s, perception and controller_done (the controller's own verdict; `success` also
+/// asks the truth, see ScenarioRunResult). 2-space indented.
 std::string run_summary_json(const ScenarioRunResult& result, double time_limit_s);
 
 /// decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,

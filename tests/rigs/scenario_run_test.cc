@@ -21,6 +21,7 @@ TEST(ScenarioRun, LineSucceedsAndTheLogIsTheTruth) {
   options.seed = 3;
   const ScenarioRunResult r = run_scenario(sc, field, options);
   ASSERT_TRUE(r.loop.success);
+  EXPECT_TRUE(r.success);
   ASSERT_TRUE(r.loop.completion_time_s.has_value());
   EXPECT_LE(*r.loop.completion_time_s, sc.task.time_limit_s);
   // One row per camera frame (40 Hz) from t = 0 to the end, nozzle commands included.
@@ -37,6 +38,28 @@ TEST(ScenarioRun, LineSucceedsAndTheLogIsTheTruth) {
   // The decisions' commands are in the log.
   EXPECT_NEAR(samples.back().nozzle.pan_rad, r.loop.decisions.back().plan.orientation.pan_rad,
               1e-12);
+}
+
+// The summary's verdict is the run's, not the controller's: a controller that saw the task done
+// while the truth disagrees (a detection on a zone's edge) is a failed run with no completion
+// time, and says so in controller_done.
+TEST(ScenarioRun, TheSummarySuccessIsTheTruthsVerdict) {
+  ScenarioRunResult r;
+  r.scenario = "sorting";
+  r.n_objects = 6;
+  r.objects_in_zone = 5;
+  r.loop.success = true;
+  r.loop.completion_time_s = 37.8;
+  r.loop.end_time_s = 37.8;
+  r.success = false;
+  const std::string json = run_summary_json(r, 60.0);
+  EXPECT_NE(json.find("\"success\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"completion_time_s\": null"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"controller_done\": true"), std::string::npos) << json;
+  r.success = true;
+  const std::string done = run_summary_json(r, 60.0);
+  EXPECT_NE(done.find("\"success\": true"), std::string::npos) << done;
+  EXPECT_NE(done.find("\"completion_time_s\": 37.8"), std::string::npos) << done;
 }
 
 TEST(ScenarioRun, SameSeedSameBytesOtherSeedOtherRun) {
