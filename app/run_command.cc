@@ -83,7 +83,7 @@ void run_run(const RunArgs& a) {
   }
   if (result.success && result.loop.completion_time_s) {
     std::printf(" in %.1f s", *result.loop.completion_time_s);
-  } else {
+  } else if (!result.loop.success) {
     std::printf(" (time limit %.0f s)", scenario.task.time_limit_s);
   }
   if (result.path_error_m.count > 0) {
