@@ -119,8 +119,8 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
   result.objects_in_zone = metrics.objects_in_zone();
-  result.success = result.loop.success && (scenario.task.kind == TaskKind::kPath ||
-                                           result.objects_in_zone == result.n_objects);
+  result.success = run_verdict(scenario.task.kind, result.loop.success, result.objects_in_zone,
+                               result.n_objects);
   double sum = 0.0;
   for (const auto& d : result.loop.decisions) {
     sum += d.decision_ms;
@@ -130,6 +130,10 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
     result.decision_ms_mean = sum / static_cast<double>(result.loop.decisions.size());
   }
   return result;
+}
+
+bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects) {
+  return controller_done && (kind == TaskKind::kPath || objects_in_zone == n_objects);
 }
 
 std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {

@@ -53,9 +53,8 @@ struct ScenarioRunResult {
   std::string scenario;
   uint64_t seed = 0;
   LoopResult loop;
-  /// The run's verdict: the controller saw the task done (loop.success) and, for a zone task,
-  /// the twin's truth agrees at that moment (every object in its zone). With --vision the
-  /// controller judges from what it detects, which can put an object on a zone's edge inside.
+  /// The run's verdict, run_verdict() below. With --vision the controller judges from what it
+  /// detects, and that can disagree with the truth.
   bool success = false;
   ErrorStats path_error_m;
   double max_pairwise_distance_m = 0.0;
@@ -71,6 +70,10 @@ struct ScenarioRunResult {
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;
 };
+
+/// A run succeeded when the controller saw its task done and, for a zone task (aggregation,
+/// sorting), the twin's truth agrees at that moment: all n_objects in their zones.
+bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects);
 
 /// Runs `scenario` in the twin under `field_model`. Throws InputError for unusable inputs,
 /// SimulationError when the twin fails.

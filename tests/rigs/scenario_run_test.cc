@@ -44,6 +44,14 @@ TEST(ScenarioRun, LineSucceedsAndTheLogIsTheTruth) {
 // while the truth disagrees (a detection on a zone's edge) is a failed run with no completion
 // time, and says so in controller_done.
 TEST(ScenarioRun, TheSummarySuccessIsTheTruthsVerdict) {
+  // The verdict: zone tasks need the truth's agreement; a path task is the controller's (its
+  // objects_in_zone counts objects near the last reference, not the task's criterion).
+  EXPECT_TRUE(run_verdict(TaskKind::kSorting, true, 6, 6));
+  EXPECT_FALSE(run_verdict(TaskKind::kSorting, true, 5, 6));
+  EXPECT_FALSE(run_verdict(TaskKind::kAggregation, true, 24, 25));
+  EXPECT_FALSE(run_verdict(TaskKind::kSorting, false, 6, 6));
+  EXPECT_TRUE(run_verdict(TaskKind::kPath, true, 3, 4));
+  EXPECT_FALSE(run_verdict(TaskKind::kPath, false, 4, 4));
   ScenarioRunResult r;
   r.scenario = "sorting";
   r.n_objects = 6;
