@@ -84,7 +84,12 @@ void run_run(const RunArgs& a) {
   if (result.success && result.loop.completion_time_s) {
     std::printf(" in %.1f s", *result.loop.completion_time_s);
   } else if (!result.loop.success) {
-    std::printf(" (time limit %.0f s)", scenario.task.time_limit_s);
+    std::printf(" (time limit %.0f s", scenario.task.time_limit_s);
+    if (result.loop.objects_seen_at_end < result.n_objects) {
+      std::printf("; the perception saw %d of the %d objects at the end",
+                  result.loop.objects_seen_at_end, result.n_objects);
+    }
+    std::printf(")");
   }
   if (result.path_error_m.count > 0) {
     std::printf(", path error mean %.2f cm, max %.2f cm", 100.0 * result.path_error_m.mean,

@@ -121,6 +121,7 @@ LoopResult run_closed_loop(Rig& rig, Controller& controller, const LoopOptions& 
   double pan = 0.0;
   while (true) {
     const Observation observation = rig.observe();
+    result.objects_seen_at_end = static_cast<int>(observation.objects.size());
     if (controller.observe(observation)) {
       result.success = true;
       result.completion_time_s = controller.progress().done_time_s();

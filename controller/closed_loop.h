@@ -83,6 +83,7 @@ struct LoopResult {
   bool success = false;
   std::optional<double> completion_time_s;  ///< rig time when the task was seen done
   double end_time_s = 0.0;                  ///< rig time when the loop stopped
+  int objects_seen_at_end = 0;              ///< objects in the last observation
   std::vector<DecisionRecord> decisions;
 };
 

@@ -39,6 +39,9 @@ void TaskSpec::validate(const std::string& source) const {
   if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) {
     throw InputError(source + ": task.time_limit_s must be a positive number");
   }
+  for (const auto& [type, n] : object_counts) {
+    if (n < 0) throw InputError(source + ": the task's count of '" + type + "' objects is negative");
+  }
   switch (kind) {
     case TaskKind::kPath: {
       if (path_W.size() < 2) {
@@ -189,12 +192,17 @@ bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
         ++reference_index_;
         if (one_at_a_time) break;
       }
-      if (reference_index_ >= references_.size()) done_time_s_ = t_s;
+      if (reference_index_ >= references_.size() && all_objects_observed(types)) {
+        done_time_s_ = t_s;
+      }
       break;
     }
     case TaskKind::kAggregation:
     case TaskKind::kSorting:
-      if (objects_in_zone(p_W, types) == static_cast<int>(p_W.size())) done_time_s_ = t_s;
+      if (objects_in_zone(p_W, types) == static_cast<int>(p_W.size()) &&
+          all_objects_observed(types)) {
+        done_time_s_ = t_s;
+      }
       break;
   }
   return done();
@@ -217,6 +225,13 @@ std::vector<Eigen::Vector2d> TaskProgress::references(
     }
   }
   return out;
+}
+
+bool TaskProgress::all_objects_observed(const std::vector<std::string>& types) const {
+  for (const auto& [type, n] : spec_.object_counts) {
+    if (std::count(types.begin(), types.end(), type) < n) return false;
+  }
+  return true;
 }
 
 int TaskProgress::objects_in_zone(const std::vector<Eigen::Vector2d>& p_W,

@@ -33,6 +33,7 @@ std::string failed_record_json(const RunKey& key, int n_objects, double time_lim
   j["time_limit_s"] = time_limit_s;
   j["perception"] = perception;
   j["controller_done"] = false;
+  j["objects_seen_at_end"] = 0;
   j["error"] = message;
   j["wall_s"] = wall_s;
   return j.dump(2) + "\n";

@@ -161,6 +161,7 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["time_limit_s"] = time_limit_s;
   j["perception"] = r.perception;
   j["controller_done"] = r.loop.success;
+  j["objects_seen_at_end"] = r.loop.objects_seen_at_end;
   if (r.perception == "vision") {
     const TrackerCounters& c = r.vision_counters;
     j["vision"] = {{"frames", r.vision_frames},     {"frame_ms", r.vision_frame_ms},

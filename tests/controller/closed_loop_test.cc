@@ -135,6 +135,35 @@ TEST(ClosedLoop, ObjectsUnseenTooLongAreForgotten) {
   EXPECT_EQ(controller.known().count("a"), 0u);
 }
 
+// An object the perception lost for good (blown out of the camera's view) is forgotten, but the
+// task still names it: the one still seen being in the zone does not finish the task.
+TEST(ClosedLoop, AForgottenObjectKeepsTheTaskOpen) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  TaskSpec agg;
+  agg.kind = TaskKind::kAggregation;
+  agg.zone = Zone{{-0.5, 0.1}, 0.3};  // "b" starts inside, "a" outside
+  agg.time_limit_s = 8.0;
+  for (const bool named : {false, true}) {
+    ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}},
+                         ObservedObject{"b", "tracer", {-0.5, 0.1}, {0, 0}}});
+    rig.hide_from_ = 2;  // "a" is seen at t = 0 only
+    if (named) agg.object_counts = {{"tracer", 2}};
+    Controller controller(model, CemParameters::line_defaults(), agg,
+                          {{"tracer", kTracerDynamics}}, 2, /*forget_after_s=*/3.0);
+    const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.8, 8.0});
+    EXPECT_EQ(result.objects_seen_at_end, 1) << named;
+    if (named) {
+      EXPECT_FALSE(result.success);
+      EXPECT_DOUBLE_EQ(result.end_time_s, 8.0);
+    } else {
+      // Only what is seen: done once "a" is forgotten (at the observation at 3.6 s), as long as
+      // "b" stayed in the zone.
+      EXPECT_TRUE(result.success);
+      EXPECT_LT(result.end_time_s, 8.0);
+    }
+  }
+}
+
 TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
   const AirFieldModel model = AirFieldModel::with_default_table();
   ModelRig rig(model, {ObservedObject{"g", "glass", {0.3, 0.0}, {0, 0}}});

@@ -31,6 +31,7 @@ TEST(ScenarioRun, LineSucceedsAndTheLogIsTheTruth) {
   // The end of the log is within the switch distance of the path's end (the task's own test).
   EXPECT_LT((samples.back().p_W - sc.task.path_W.back()).norm(), sc.task.switch_distance_m);
   EXPECT_EQ(r.objects_in_zone, 1);
+  EXPECT_EQ(r.loop.objects_seen_at_end, 1);
   // Path error: recomputed from the log.
   double max_e = 0.0;
   for (const auto& s : samples) max_e = std::max(max_e, distance_to_path(sc.task.path_W, s.p_W));
