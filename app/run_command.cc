@@ -1,6 +1,6 @@
 // airtwin run: one closed-loop run of a scenario in the twin (rigs/scenario_run.h). Writes
-// DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included) and
-// DIR/decisions.csv.
+// DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included),
+// DIR/decisions.csv and DIR/plans.csv.
 
 #include <cmath>
 #include <cstdio>
@@ -74,6 +74,7 @@ void run_run(const RunArgs& a) {
   write_text_file(a.out + "/summary.json", run_summary_json(result, scenario.task.time_limit_s));
   write_text_file(a.out + "/log.csv", trajectory_csv(result.log));
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
+  write_text_file(a.out + "/plans.csv", plans_csv(result));
 
   std::printf("%s seed %llu: %s", scenario.name.c_str(),
               static_cast<unsigned long long>(a.seed), result.success ? "success" : "FAILED");
@@ -98,7 +99,7 @@ void run_run(const RunArgs& a) {
   std::printf(", %d/%d objects in zone, max pairwise %.1f cm, %zu decisions (%.2f ms mean)\n",
               result.objects_in_zone, result.n_objects, 100.0 * result.max_pairwise_distance_m,
               result.loop.decisions.size(), result.decision_ms_mean);
-  std::printf("wrote %s/summary.json, log.csv, decisions.csv\n", a.out.c_str());
+  std::printf("wrote %s/summary.json, log.csv, decisions.csv, plans.csv\n", a.out.c_str());
 }
 
 }  // namespace
@@ -110,7 +111,8 @@ void add_run_command(CLI::App& app) {
       "Run a scenario in closed loop in the MuJoCo twin: the CEM controller of section V (eq. 10)\n"
       "plans on the field model and the identified dynamics, aims the twin's nozzle, waits\n"
       "Delta T plus the settle time, observes, repeats until the task is done or time is up.\n"
-      "Writes DIR/summary.json, DIR/log.csv (trajectory CSV) and DIR/decisions.csv.\n"
+      "Writes DIR/summary.json, DIR/log.csv (trajectory CSV), DIR/decisions.csv and\n"
+      "DIR/plans.csv (what each decision perceived and predicted, per object).\n"
       "Scenarios: scenes/*.yaml (docs/scenario_schema.md).");
   sub->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
   sub->add_option("--out", args->out, "Output folder")->required();

@@ -64,6 +64,7 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   std::vector<Eigen::Vector2d> p, v;
   std::vector<std::string> types;
   std::vector<ObjectDynamics> xi;
+  DecisionRecord record;
   for (const auto& [id, o] : known_) {
     const auto it = dynamics_.find(o.type);
     if (it == dynamics_.end()) {
@@ -74,6 +75,8 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
     v.push_back(o.v_W);
     types.push_back(o.type);
     xi.push_back(it->second);
+    record.objects.push_back(o);
+    record.seen.push_back(last_seen_s_.at(id) == last_t_s_ ? 1 : 0);
   }
   const std::vector<Eigen::Vector2d> r = progress_.references(types);
   PlanningProblem problem;
@@ -87,7 +90,6 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   problem.pan_hint_rad = pan_hint_rad;
   problem.nozzle_now = last_command_;
 
-  DecisionRecord record;
   const auto start = std::chrono::steady_clock::now();
   record.plan = planner_.plan(problem, rng_);
   record.decision_ms =

@@ -33,6 +33,10 @@ struct DecisionRecord {
   double decision_ms = 0.0;     ///< wall-clock time of the CEM decision
   int n_observed = 0;           ///< objects in the observation
   int n_known = 0;              ///< objects planned for (observed or remembered)
+  /// The objects planned for, in the order of plan.predicted_end_W: as perceived (a remembered
+  /// one at its last position, at rest), and whether it was in this observation.
+  std::vector<ObservedObject> objects;
+  std::vector<char> seen;
 };
 
 class Controller {

@@ -32,7 +32,9 @@ RunRecord run_and_commit(const BatchPlan& plan, const AirFieldModel& field, cons
   try {
     const ScenarioRunResult result = run_scenario(scenario, field, run_options);
     json = record_json(result, time_limit_s, wall_s());
-    if (options.keep_logs) logs = RunLogs{trajectory_csv(result.log), decisions_csv(result)};
+    if (options.keep_logs) {
+      logs = RunLogs{trajectory_csv(result.log), decisions_csv(result), plans_csv(result)};
+    }
   } catch (const SimulationError& e) {
     json = failed_record_json(key, static_cast<int>(scenario.scene.objects.size()), time_limit_s,
                               run_options.vision_camera ? "vision" : "truth", e.what(), wall_s());

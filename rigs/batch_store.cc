@@ -92,6 +92,9 @@ void BatchStore::commit(const RunKey& key, const std::string& record_json,
   if (logs) {
     write_file_atomically(run_file(dir_, key, ".log.csv"), logs->log_csv);
     write_file_atomically(run_file(dir_, key, ".decisions.csv"), logs->decisions_csv);
+    if (!logs->plans_csv.empty()) {
+      write_file_atomically(run_file(dir_, key, ".plans.csv"), logs->plans_csv);
+    }
   }
   write_file_atomically(record_path(key), record_json);
 }
@@ -101,7 +104,11 @@ void BatchStore::copy_run(const BatchStore& from, const RunKey& key) const {
   std::error_code ec;
   const std::string log = run_file(from.dir_, key, ".log.csv");
   if (fs::is_regular_file(log, ec)) {
-    logs = RunLogs{read_text_file(log), read_text_file(run_file(from.dir_, key, ".decisions.csv"))};
+    logs = RunLogs{read_text_file(log), read_text_file(run_file(from.dir_, key, ".decisions.csv")),
+                   ""};
+    // plans.csv is newer than the other two: a batch made before it has none.
+    const std::string plans = run_file(from.dir_, key, ".plans.csv");
+    if (fs::is_regular_file(plans, ec)) logs->plans_csv = read_text_file(plans);
   }
   commit(key, read_text_file(from.record_path(key)), logs ? &*logs : nullptr);
 }

@@ -18,10 +18,11 @@
 
 namespace airtwin {
 
-/// A finished run's log.csv and decisions.csv (the texts `airtwin run` writes).
+/// A finished run's log.csv, decisions.csv and plans.csv (the texts `airtwin run` writes).
 struct RunLogs {
   std::string log_csv;
   std::string decisions_csv;
+  std::string plans_csv;
 };
 
 class BatchStore {

@@ -115,6 +115,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
     result.vision_frames = vision->frames_processed();
     result.vision_frame_ms = vision->mean_frame_ms();
     result.vision_counters = vision->counters();
+    result.vision_duplicates = vision->duplicates();
   }
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
@@ -167,7 +168,8 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
     j["vision"] = {{"frames", r.vision_frames},     {"frame_ms", r.vision_frame_ms},
                    {"detections", c.detections},    {"tracks", c.new_tracks},
                    {"missed", c.missed},            {"merged", c.merged},
-                   {"lost", c.lost},                {"left_view", c.left_view}};
+                   {"lost", c.lost},                {"left_view", c.left_view},
+                   {"duplicates", r.vision_duplicates}};
   }
   return j.dump(2) + "\n";
 }
@@ -184,6 +186,28 @@ std::string decisions_csv(const ScenarioRunResult& r) {
                   rad_to_deg(d.plan.orientation.tilt_rad), d.plan.cost, d.plan.iterations,
                   d.plan.converged ? 1 : 0, d.n_observed, d.decision_ms);
     out += line;
+  }
+  return out;
+}
+
+std::string plans_csv(const ScenarioRunResult& r) {
+  std::string out = "t,id,type,seen,x,y,vx,vy,end_x,end_y\n";
+  char line[512];
+  for (const auto& d : r.loop.decisions) {
+    for (size_t j = 0; j < d.objects.size(); ++j) {
+      const ObservedObject& o = d.objects[j];
+      const Eigen::Vector2d end =
+          j < d.plan.predicted_end_W.size() ? d.plan.predicted_end_W[j] : o.p_W;
+      std::snprintf(line, sizeof line, "%.6f,", d.t_s);
+      out += line;
+      out += o.id;
+      out += ',';
+      out += o.type;
+      std::snprintf(line, sizeof line, ",%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
+                    j < d.seen.size() ? static_cast<int>(d.seen[j]) : 1, o.p_W.x(), o.p_W.y(),
+                    o.v_W.x(), o.v_W.y(), end.x(), end.y());
+      out += line;
+    }
   }
   return out;
 }

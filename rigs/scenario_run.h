@@ -66,6 +66,7 @@ struct ScenarioRunResult {
   int64_t vision_frames = 0;
   double vision_frame_ms = 0.0;
   TrackerCounters vision_counters;
+  int64_t vision_duplicates = 0;  ///< tracks withheld as duplicates (rigs/vision_perception.h)
   /// Every object's true position every camera frame, with the commanded nozzle orientation:
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;
@@ -90,5 +91,12 @@ std::string run_summary_json(const ScenarioRunResult& result, double time_limit_
 /// decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,
 /// converged,n_observed,decision_ms.
 std::string decisions_csv(const ScenarioRunResult& result);
+
+/// plans.csv: what each decision planned with and predicted, a row per object per decision:
+/// t,id,type,seen,x,y,vx,vy,end_x,end_y. (x, y), (vx, vy): the object as the controller knew it
+/// (perceived; seen 0: remembered at its last position, at rest); (end_x, end_y): where eq. (8)-
+/// (9) put it after Delta T under the chosen s. Beside log.csv (the truth) it shows what the
+/// perception and the model got wrong.
+std::string plans_csv(const ScenarioRunResult& result);
 
 }  // namespace airtwin

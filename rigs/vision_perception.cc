@@ -1,7 +1,9 @@
 #include "rigs/vision_perception.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <vector>
 
 #include "common/errors.h"
 #include "renders/calibration_target.h"
@@ -21,6 +23,7 @@ struct VisionPerception::Impl {
   int64_t processed = 0;
   double total_ms = 0.0;
   double last_t_s = -1.0;
+  int64_t duplicates = 0;
 
   static TrackerOptions tracker_options(const CalibratedCamera& camera,
                                         const VisionPerceptionOptions& o) {
@@ -36,6 +39,9 @@ struct VisionPerception::Impl {
   Impl(const CalibratedCamera& camera, const VisionPerceptionOptions& o)
       : options(o), detector(camera), tracker(tracker_options(camera, o)) {
     const double k = 40.0 / o.rate_hz;
+    if (!(std::isfinite(o.min_separation_m) && o.min_separation_m >= 0.0)) {
+      throw InputError("vision: the minimum separation of objects must be a number >= 0 (m)");
+    }
     if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0.0 && std::fabs(k - std::round(k)) < 1e-9)) {
       throw InputError("vision: the detection rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
     }
@@ -73,20 +79,43 @@ Observation VisionPerception::observe(const Twin& twin) {
   Impl& m = *impl_;
   Observation o;
   o.t_s = twin.time();
-  for (const Track& t : m.tracker.tracks()) {
-    if (m.last_t_s - t.t_last_s > m.options.report_missing_s) continue;
-    ObservedObject obj;
-    obj.id = "v";
-    obj.id += std::to_string(t.id);
-    obj.type = object_kind_name(t.kind);
-    obj.p_W = t.predict(m.last_t_s);
-    obj.v_W = t.v_W;
-    o.objects.push_back(std::move(obj));
-  }
+  const TrackReport report = report_tracks(m.tracker.tracks(), m.last_t_s, m.options);
+  o.objects = report.objects;
+  m.duplicates += report.duplicates;
   return o;
 }
 
+TrackReport report_tracks(const std::vector<Track>& tracks, double t_s,
+                          const VisionPerceptionOptions& options) {
+  TrackReport out;
+  // Oldest first (ids count up), so that of two tracks on one object the older is kept.
+  std::vector<const Track*> order;
+  for (const Track& t : tracks) order.push_back(&t);
+  std::sort(order.begin(), order.end(), [](const Track* a, const Track* b) { return a->id < b->id; });
+  for (const Track* t : order) {
+    if (t_s - t->t_last_s > options.report_missing_s) continue;
+    const Eigen::Vector2d p = t->predict(t_s);
+    bool duplicate = false;
+    for (const ObservedObject& kept : out.objects) {
+      duplicate = duplicate || (kept.p_W - p).norm() < options.min_separation_m;
+    }
+    if (duplicate) {
+      ++out.duplicates;
+      continue;
+    }
+    ObservedObject obj;
+    obj.id = "v";
+    obj.id += std::to_string(t->id);
+    obj.type = object_kind_name(t->kind);
+    obj.p_W = p;
+    obj.v_W = t->v_W;
+    out.objects.push_back(std::move(obj));
+  }
+  return out;
+}
+
 const TrackerCounters& VisionPerception::counters() const { return impl_->tracker.counters(); }
+int64_t VisionPerception::duplicates() const { return impl_->duplicates; }
 int64_t VisionPerception::frames_processed() const { return impl_->processed; }
 double VisionPerception::mean_frame_ms() const {
   return impl_->processed > 0 ? impl_->total_ms / static_cast<double>(impl_->processed) : 0.0;

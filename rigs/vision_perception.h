@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rigs/twin_rig.h"
 #include "vision/calibrated_camera.h"
@@ -30,6 +31,11 @@ struct VisionPerceptionOptions {
   /// Tracks not detected for longer than this (s) are not reported (the controller keeps their
   /// last position anyway).
   double report_missing_s = 0.5;
+  /// Closest two objects' centres can be (m): a tracer's visible cap is 2.8 cm across, a wad's
+  /// 4.1 cm, so touching objects are >= ~3.4 cm apart. Of two tracks closer than this the newer
+  /// is the same object seen twice (a stretched wad peeled into a wad and a "tracer") and is not
+  /// reported; 0 reports every track.
+  double min_separation_m = 0.025;
 };
 
 class VisionPerception final : public Perception {
@@ -43,6 +49,9 @@ class VisionPerception final : public Perception {
 
   /// The tracker's totals (frames, detections, new tracks, missed, merged, lost, left view).
   const TrackerCounters& counters() const;
+  /// Tracks withheld from observations as duplicates of an older one (min_separation_m), summed
+  /// over the observations.
+  int64_t duplicates() const;
   /// Frames processed and the mean wall-clock ms per frame (render + detection + tracking).
   int64_t frames_processed() const;
   double mean_frame_ms() const;
@@ -51,6 +60,17 @@ class VisionPerception final : public Perception {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// What the controller is told of the tracker's tracks at time t_s (the last processed frame):
+/// each track detected within report_missing_s, at its predicted position, as `v<id>` with its
+/// kind and velocity; of tracks closer than min_separation_m the oldest only (the others are
+/// counted in `duplicates`).
+struct TrackReport {
+  std::vector<ObservedObject> objects;
+  int64_t duplicates = 0;
+};
+TrackReport report_tracks(const std::vector<Track>& tracks, double t_s,
+                          const VisionPerceptionOptions& options);
 
 /// Calibrates the twin's top camera the way a user calibrates the rig's: renders views of the
 /// checkerboard target into `dir` (renders/calibration_target.h) and runs the calibration on that

@@ -4,9 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/units.h"
 #include "models/air_field.h"
@@ -63,6 +67,32 @@ TEST(RunCli, LineWritesSummaryLogAndDecisions) {
   EXPECT_NEAR(log.trajectories[0].samples.back().t_s, j["end_time_s"].get<double>(), 1e-6);
   // One decisions.csv row per decision after the header.
   EXPECT_EQ(count_lines(slurp(d + "/decisions.csv")), 1 + j["decisions"].get<int>());
+  // plans.csv: one row per object per decision; in fast mode the perceived position is the
+  // truth's at that time (log.csv), and the object was seen.
+  std::istringstream plans(slurp(d + "/plans.csv"));
+  std::string row;
+  std::getline(plans, row);
+  EXPECT_EQ(row, "t,id,type,seen,x,y,vx,vy,end_x,end_y");
+  int n_rows = 0;
+  const auto& truth = log.trajectories[0].samples;
+  while (std::getline(plans, row)) {
+    ++n_rows;
+    std::vector<std::string> f;
+    std::istringstream cells(row);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    ASSERT_EQ(f.size(), 10u) << row;
+    EXPECT_EQ(f[1], "t1");
+    EXPECT_EQ(f[2], "tracer");
+    EXPECT_EQ(f[3], "1");
+    const double t = std::stod(f[0]);
+    const auto at = std::min_element(truth.begin(), truth.end(), [&](const auto& a, const auto& b) {
+      return std::fabs(a.t_s - t) < std::fabs(b.t_s - t);
+    });
+    ASSERT_NEAR(at->t_s, t, 1e-6) << row;
+    EXPECT_NEAR(std::stod(f[4]), at->p_W.x(), 2e-6) << row;
+    EXPECT_NEAR(std::stod(f[5]), at->p_W.y(), 2e-6) << row;
+  }
+  EXPECT_EQ(n_rows, j["decisions"].get<int>());
   EXPECT_NE(r.out.find("line seed 2: success"), std::string::npos) << r.out;
 }
 
