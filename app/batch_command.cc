@@ -278,7 +278,8 @@ void add_batch_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--out", args->out, "Output folder (new, empty, or this batch's)")->required();
   sub->add_flag("--logs", args->logs,
-                "Keep each run's log.csv and decisions.csv beside its record (MBs per run)");
+                "Keep each run's log.csv, decisions.csv and plans.csv beside its record (MBs per "
+                "run)");
   add_run_setup_flags(sub, args->setup,
                       "calibrate the twin's camera once into DIR/calibration and DIR/calib.yaml");
   sub->add_flag("--quiet", args->quiet, "No progress display");

@@ -6,7 +6,9 @@
 //   BM_CemDecision/sorting: the 3 tracers + 3 cotton wads of scenes/sorting.yaml, each referenced
 //     to its type's zone, in stages (tracers first, cottons deferred); the plane search (n 100,
 //     n* 10, i_max 5) after the file's 10 cm scan of the reachable stagnation points;
-//     sorting_no_scan: the same search started from the objects' mean, as the paper does.
+//     sorting_no_scan: the same search started from the objects' mean, as the paper does;
+//     the file predicts the re-aim (predict_transition: the nozzle turning from a previous
+//     command at pan 140 deg, the jet sweeping): sorting_no_transition predicts the new s at once.
 // Each iteration is one full decision (every iteration of CEM, all predictions with the fast
 // predictor over Delta T = 1.5 s). Counters: evaluations (candidates predicted), iterations.
 // Target: <= 5 ms each.
@@ -29,9 +31,10 @@ namespace airtwin {
 namespace {
 
 void BM_CemDecision(benchmark::State& state, const std::string& name, bool extended,
-                    bool no_scan = false) {
+                    bool no_scan = false, bool no_transition = false) {
   Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   if (no_scan) sc.controller.scan_step_m = 0.0;
+  if (no_transition) sc.controller.predict_transition = false;
   const AirFieldModel model = AirFieldModel::with_default_table();
   std::optional<ExtendedPlanning> planning;
   if (extended) {
@@ -63,6 +66,10 @@ void BM_CemDecision(benchmark::State& state, const std::string& name, bool exten
   problem.weights = shaping.weights;
   problem.reach_m = shaping.reach_m;
   if (extended) problem.nozzle_now = NozzleOrientation{0.5, 0.3};
+  // A previous command for the transition: s 0.66 m out at pan 140 deg, as sorting often has.
+  if (sc.controller.predict_transition) {
+    problem.nozzle_now = NozzleOrientation{140.0 * kPi / 180.0, 0.45};
+  }
   RandomStream rng(1, RandomPurpose::kController, 0);
   int evaluations = 0, iterations = 0;
   for (auto _ : state) {
@@ -82,6 +89,9 @@ BENCHMARK_CAPTURE(BM_CemDecision, aggregation, std::string("aggregation"), false
 BENCHMARK_CAPTURE(BM_CemDecision, sorting, std::string("sorting"), false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_scan, std::string("sorting"), false, true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_transition, std::string("sorting"), false, false,
+                  true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, octagon, std::string("octagon"), false)
     ->Unit(benchmark::kMillisecond);

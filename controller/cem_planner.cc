@@ -60,6 +60,7 @@ void CemParameters::validate(const std::string& source) const {
   if (scan_step_m > 0.0 && scan_step_m < 0.01) {
     throw InputError(source + ": controller.scan_step_m must be at least 0.01 m (or 0: no scan)");
   }
+  if (predict_transition) transition.validate();
   if (scan_step_m > 0.0 && search != CemSearch::kPlane) {
     throw InputError(source + ": controller.scan_step_m applies to the plane search only");
   }
@@ -86,7 +87,44 @@ struct Scratch {
   // Extended planning.
   std::vector<WindowStart> window_start;
   std::vector<Eigen::Vector2d> end_W;
+  // Transition.
+  OrientationSchedule schedule;
 };
+
+// The schedule of a re-aim from `from` to `to` (predict_transition, see cem_planner.h): `from`
+// for the transit, then the servos' orientation every kSweepStep while they turn, then `to`.
+// Returns the time the new orientation reaches the floor.
+constexpr double kSweepStep = 0.05;
+double transition_schedule(const NozzleResponseParameters& r, const NozzleOrientation& from,
+                           const NozzleOrientation& to, OrientationSchedule& schedule) {
+  schedule.clear();
+  schedule.push_back({0.0, from});
+  constexpr double kServoStep = 0.005;
+  constexpr int kSubsteps = static_cast<int>(kSweepStep / kServoStep + 0.5);
+  NozzleOrientation now = from;
+  double pan_rate = 0.0, tilt_rate = 0.0, t = 0.0;
+  // At most 10 s of turning (a full turn takes ~1 s): a guard, not a limit that binds.
+  while ((now.pan_rad != to.pan_rad || now.tilt_rad != to.tilt_rad) && t < 10.0) {
+    for (int k = 0; k < kSubsteps; ++k) {
+      servo_axis_step(to.pan_rad, r.max_speed_radps, r.max_acceleration_radps2, kServoStep,
+                      &now.pan_rad, &pan_rate);
+      servo_axis_step(to.tilt_rad, r.max_speed_radps, r.max_acceleration_radps2, kServoStep,
+                      &now.tilt_rad, &tilt_rate);
+    }
+    // The orientation at the end of each step holds over the step (reaching the floor a transit
+    // later); the last is the target.
+    const double start = r.transit_delay_s + t;
+    t += kSweepStep;
+    if (start > schedule.back().t_start_s) {
+      schedule.push_back({start, now});
+    } else {
+      schedule.back().orientation = now;  // no transit: the sweep starts at once
+    }
+  }
+  if (t == 0.0) return 0.0;  // already there: nothing changes
+  schedule.back().orientation = to;
+  return schedule.back().t_start_s;
+}
 
 // The command that puts the air where `aim` would with the servos' offset compensated: the
 // servos turn to command + offset (the rig takes tilts from 0 up; pan wraps).
@@ -199,6 +237,27 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     return end_cost(pr, scratch.end_W);
   }
   if (orientation != nullptr) *orientation = *aim.orientation;
+  if (params.predict_transition && pr.nozzle_now) {
+    const double t_new = transition_schedule(params.transition, *pr.nozzle_now,
+                                             *aim.orientation, scratch.schedule);
+    // eq. (9) from the air that blows now: the present speed along the ray from the previous s.
+    const Eigen::Vector2d s_now = model.at(*pr.nozzle_now).stagnation_point();
+    scratch.start.resize(m);
+    for (size_t j = 0; j < m; ++j) {
+      const Eigen::Vector2d d = pr.positions_W[j] - s_now;
+      const double n = d.norm();
+      scratch.start[j].p_W = pr.positions_W[j];
+      scratch.start[j].v = n > 0.0 ? std::max(0.0, pr.velocities_W[j].dot(d / n)) : 0.0;
+    }
+    PredictionOptions options;
+    options.horizon_s = t_new + params.horizon_s;
+    predictors.fast.predict(model, scratch.schedule, pr.dynamics, scratch.start, options,
+                            scratch.prediction);
+    scratch.end_W.resize(m);
+    for (size_t j = 0; j < m; ++j) scratch.end_W[j] = scratch.prediction.end[j].p_W;
+    *feasible = true;
+    return end_cost(pr, scratch.end_W);
+  }
   const OrientedField field = model.at(*aim.orientation);
   // eq. (9): each object moves radially away from s; its present speed along that ray carries
   // over (eq. 8's state), a speed toward s does not.

@@ -32,6 +32,14 @@
 //    that point. With objects spread over the floor the best push can be a metre from their
 //    mean, where a Gaussian of a few cm never samples.
 //
+// Transition (predict_transition, not in the paper): eq. (10) is evaluated on the prediction of
+// the whole re-aim. The servos take up to ~1 s to turn (7 rad/s, 30 rad/s^2) and never wrap in
+// pan, so from pan 140 deg to -95 deg the jet sweeps 235 deg over the floor, and the air follows
+// 0.2 s late (models/nozzle_response.h). The paper's prediction applies the new s at once and
+// cannot see a sweep that blows an object the other way; here the prediction runs under the
+// previous orientation for the transit, then under the servos' orientations every 50 ms until
+// they arrive, then Delta T under the new one, all with the fast predictor.
+//
 // Extended planning (an extended model from `airtwin discrepancy`, models/extended_model.h): the
 // trajectories are predicted with models/extended_predictor.h instead, under the model's
 // extensions and the nozzle's response. The new command takes over from the previous one through
@@ -87,6 +95,12 @@ struct CemParameters {
   /// Plane search only: pitch (m) of the grid scanned for mu0 (see above); 0, the paper's
   /// choice: mu0 is the objects' mean.
   double scan_step_m = 0.0;
+  /// Predict the re-aim too (see above): the air keeps the previous orientation for the
+  /// transit, then sweeps with the servos to the new one. false: the paper's model, the new
+  /// field at once. Needs the previous command (PlanningProblem::nozzle_now).
+  bool predict_transition = false;
+  /// The servos and the transit that the transition follows (the rig's specification).
+  NozzleResponseParameters transition;
 
   /// The paper's values for each search.
   static CemParameters line_defaults();

@@ -40,7 +40,9 @@ void TaskSpec::validate(const std::string& source) const {
     throw InputError(source + ": task.time_limit_s must be a positive number");
   }
   for (const auto& [type, n] : object_counts) {
-    if (n < 0) throw InputError(source + ": the task's count of '" + type + "' objects is negative");
+    if (n < 0) {
+      throw InputError(source + ": the task's count of '" + type + "' objects is negative");
+    }
   }
   switch (kind) {
     case TaskKind::kPath: {

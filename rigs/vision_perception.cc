@@ -91,7 +91,8 @@ TrackReport report_tracks(const std::vector<Track>& tracks, double t_s,
   // Oldest first (ids count up), so that of two tracks on one object the older is kept.
   std::vector<const Track*> order;
   for (const Track& t : tracks) order.push_back(&t);
-  std::sort(order.begin(), order.end(), [](const Track* a, const Track* b) { return a->id < b->id; });
+  std::sort(order.begin(), order.end(),
+            [](const Track* a, const Track* b) { return a->id < b->id; });
   for (const Track* t : order) {
     if (t_s - t->t_last_s > options.report_missing_s) continue;
     const Eigen::Vector2d p = t->predict(t_s);

@@ -402,7 +402,7 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
               std::initializer_list<const char*>{"search", "horizon_s", "penalty", "min_distance_m",
                                                  "mean0_m", "variance0_m2", "samples", "elite",
                                                  "max_iterations", "converged_variance_m2",
-                                                 "scan_step_m"});
+                                                 "scan_step_m", "predict_transition"});
     if (auto s = m->optional("search")) {
       search = r.choice(*s, {"line", "plane"}) == "line" ? CemSearch::kLine : CemSearch::kPlane;
     }
@@ -427,6 +427,7 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
       r.fail(*v, "the scan applies to the plane search only");
     }
   }
+  if (auto v = m->optional("predict_transition")) p.predict_transition = r.boolean(*v);
   // n* must leave a choice among the n samples.
   if (auto v = m->optional("elite")) p.elite = r.integer(*v, 1, p.samples);
   if (!(p.elite >= 1 && p.elite <= p.samples)) {

@@ -9,6 +9,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/cvode_predictor.h"
+#include "models/nozzle_response.h"
 
 namespace airtwin {
 namespace {
@@ -278,6 +279,78 @@ TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
   EXPECT_THROW(line.validate("x.yaml"), InputError);
   scanned.scan_step_m = 0.001;
   EXPECT_THROW(scanned.validate("x.yaml"), InputError);
+}
+
+// predict_transition with the nozzle already at the candidate's orientation: no re-aim, nothing
+// to add: exactly eq. (10) as the paper predicts it.
+TEST_F(CemPlannerTest, TransitionWithoutAReaimIsEquationTen) {
+  CemParameters with = CemParameters::line_defaults();
+  with.predict_transition = true;
+  const CemPlanner plain(model_, CemParameters::line_defaults());
+  const CemPlanner transition(model_, with);
+  for (const Eigen::Vector2d& s : {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(-0.2, 0.4)}) {
+    PlanningProblem pr = problem();
+    pr.nozzle_now = *aim_at_stagnation(model_.geometry(), s).orientation;
+    EXPECT_DOUBLE_EQ(transition.cost(pr, s), plain.cost(pr, s)) << s.transpose();
+  }
+}
+
+// A re-aim from pan 140 deg to pan -95 deg: the servos do not wrap, so the jet sweeps 235 deg
+// through pan 0. A tracer 0.7 m out at pan 0 is beyond the new air's reach (eq. 8 keeps it at
+// rest), but the sweep passes over it. Checked against a second implementation: the servos'
+// orientation from models/nozzle_response.h's timeline (1 ms steps), sampled at the same 50 ms,
+// integrated by CVODE. A tracer 1 m out at pan -135 deg, on the short way the servos do not
+// take, stays.
+TEST_F(CemPlannerTest, TransitionPredictsTheServosSweep) {
+  const Eigen::Vector2d s_from = 0.5 * Eigen::Vector2d(std::cos(deg_to_rad(140.0)),
+                                                       std::sin(deg_to_rad(140.0)));
+  const Eigen::Vector2d s_to = 0.25 * Eigen::Vector2d(std::cos(deg_to_rad(-95.0)),
+                                                      std::sin(deg_to_rad(-95.0)));
+  const NozzleOrientation from = *aim_at_stagnation(model_.geometry(), s_from).orientation;
+  const NozzleOrientation to = *aim_at_stagnation(model_.geometry(), s_to).orientation;
+  const std::vector<Eigen::Vector2d> p = {
+      {0.7, 0.0}, Eigen::Vector2d(std::cos(deg_to_rad(-135.0)), std::sin(deg_to_rad(-135.0)))};
+  const std::vector<Eigen::Vector2d> v(2, Eigen::Vector2d::Zero());
+  const std::vector<ObjectDynamics> xi(2, kTracerDynamics);
+  const std::vector<Eigen::Vector2d> r(2, Eigen::Vector2d::Zero());
+  PlanningProblem pr;
+  pr.positions_W = p;
+  pr.velocities_W = v;
+  pr.dynamics = xi;
+  pr.references_W = r;
+  pr.nozzle_now = from;
+
+  CemParameters with = CemParameters::plane_defaults();
+  with.predict_transition = true;
+  std::vector<Eigen::Vector2d> plain_end, transition_end;
+  CemPlanner(model_, CemParameters::plane_defaults()).cost(pr, s_to, &plain_end);
+  CemPlanner(model_, with).cost(pr, s_to, &transition_end);
+  ASSERT_EQ(transition_end.size(), 2u);
+  // Under the new air alone neither moves; the sweep moves the first.
+  EXPECT_LT((plain_end[0] - p[0]).norm(), 1e-9);
+  EXPECT_LT((plain_end[1] - p[1]).norm(), 1e-9);
+  EXPECT_GT((transition_end[0] - p[0]).norm(), 0.05);
+  EXPECT_LT((transition_end[1] - p[1]).norm(), 1e-9);
+
+  // The reference: the timeline's orientation at the end of each 50 ms step holds over the step,
+  // a transit later; then the new orientation for Delta T.
+  const NozzleResponseParameters response;
+  const NozzleTimeline timeline(response, {{-1.0, from}, {0.0, to}}, 3.0);
+  OrientationSchedule schedule = {{0.0, from}};
+  double t = 0.0;
+  for (; t < 3.0; t += 0.05) {
+    const NozzleOrientation o = timeline.actual(t + 0.05);
+    schedule.push_back({response.transit_delay_s + t, o});
+    if (o.pan_rad == to.pan_rad && o.tilt_rad == to.tilt_rad) break;
+  }
+  std::vector<ObjectState> start = {{p[0], 0.0}, {p[1], 0.0}};
+  const Prediction ref = CvodePredictor().predict(
+      model_, schedule, xi, start, PredictionOptions{schedule.back().t_start_s + 1.5, 0.0});
+  // The servo integrations differ in step (5 ms against 1 ms): s differs by millimetres while
+  // it sweeps; 1 cm on a displacement of more than 5 cm.
+  EXPECT_LT((transition_end[0] - ref.end[0].p_W).norm(), 0.01)
+      << transition_end[0].transpose() << " vs " << ref.end[0].p_W.transpose();
+  EXPECT_LT((transition_end[1] - ref.end[1].p_W).norm(), 1e-9);
 }
 
 TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {

@@ -63,6 +63,7 @@ void expect_same(const CemParameters& a, const CemParameters& b) {
   EXPECT_EQ(a.max_iterations, b.max_iterations);
   EXPECT_EQ(a.converged_variance_m2, b.converged_variance_m2);
   EXPECT_EQ(a.scan_step_m, b.scan_step_m);
+  EXPECT_EQ(a.predict_transition, b.predict_transition);
 }
 
 // The single-tracer files retune Sigma0 for the twin's field (docs/controller.md).
@@ -205,6 +206,7 @@ TEST(Scenario, SortingMixesThreeOfEachBetweenTwoZones) {
   CemParameters expected = CemParameters::plane_defaults();
   expected.scan_step_m = 0.1;
   expected.variance0_m2 = 0.005;
+  expected.predict_transition = true;
   expect_same(s.controller, expected);
 }
 
@@ -270,6 +272,10 @@ TEST(ScenarioDefaults, SortingStagesAreAutoNoneOrAList) {
       parse_scenario(std::string(kSortingTask) + "controller: {scan_step_m: 0.05}\n", "s.yaml")
           .controller;
   EXPECT_DOUBLE_EQ(scanned.scan_step_m, 0.05);
+  EXPECT_FALSE(scanned.predict_transition);
+  EXPECT_TRUE(parse_scenario(std::string(kSortingTask) + "controller: {predict_transition: true}\n",
+                             "s.yaml")
+                  .controller.predict_transition);
 }
 
 TEST(ScenarioDefaults, KeysOverrideTheDefaultsOfTheSearchInForce) {
@@ -443,6 +449,8 @@ TEST(ScenarioErrors, SortingStagesAndScanNameTheKey) {
                "controller.scan_step_m", "plane search only");
   expect_error(std::string(kSortingTask) + "controller: {scan_step_m: 0.001}\n", 10,
                "controller.scan_step_m", "at least 0.01 m");
+  expect_error(std::string(kSortingTask) + "controller: {predict_transition: maybe}\n", 10,
+               "controller.predict_transition", "true");
 }
 
 TEST(ScenarioErrors, SyntaxErrorsAndUnreadableFilesAreOneLine) {
