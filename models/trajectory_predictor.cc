@@ -91,8 +91,11 @@ void TrajectoryPredictor::predict(const AirFieldModel& model, const OrientationS
   // ones starting inside the horizon. model.at() validates each orientation.
   size_t first = 0;
   while (first + 1 < schedule.size() && schedule[first + 1].t_start_s <= 0) ++first;
+  // Reserved: an OrientedField holds a profile per degree, and a growing vector would copy them.
   std::vector<OrientedField> fields;
   std::vector<double> starts;
+  fields.reserve(schedule.size() - first);
+  starts.reserve(schedule.size() - first);
   for (size_t i = first;
        i < schedule.size() && (i == first || schedule[i].t_start_s < options.horizon_s); ++i) {
     try {
