@@ -56,7 +56,7 @@ bool Controller::observe(const Observation& observation) {
     p.push_back(o.p_W);
     types.push_back(o.type);
   }
-  return progress_.update(p, types, observation.t_s);
+  return progress_.update(p, types, observation.t_s, observation.out_of_view);
 }
 
 DecisionRecord Controller::decide(double pan_hint_rad) {

@@ -32,6 +32,10 @@ struct ObservedObject {
 struct Observation {
   double t_s = 0.0;
   std::vector<ObservedObject> objects;
+  /// Objects the perception saw leave its view and has not seen come back (a camera: tracks
+  /// ended at the image's edge minus tracks started there). While any is out, the task cannot
+  /// be done: the objects still seen being in place says nothing of it.
+  int out_of_view = 0;
 };
 
 class Rig {

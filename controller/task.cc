@@ -39,11 +39,6 @@ void TaskSpec::validate(const std::string& source) const {
   if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) {
     throw InputError(source + ": task.time_limit_s must be a positive number");
   }
-  for (const auto& [type, n] : object_counts) {
-    if (n < 0) {
-      throw InputError(source + ": the task's count of '" + type + "' objects is negative");
-    }
-  }
   switch (kind) {
     case TaskKind::kPath: {
       if (path_W.size() < 2) {
@@ -174,10 +169,11 @@ const Zone& TaskProgress::zone_of(const std::string& type) const {
 }
 
 bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
-                          const std::vector<std::string>& types, double t_s) {
+                          const std::vector<std::string>& types, double t_s, int out_of_view) {
   if (done()) return true;
   AIRTWIN_DEMAND(p_W.size() == types.size());
   if (p_W.empty()) return false;
+  const bool all_in_view = out_of_view <= 0;
   switch (spec_.kind) {
     case TaskKind::kPath: {
       auto mean_distance = [&](const Eigen::Vector2d& r) {
@@ -194,7 +190,7 @@ bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
         ++reference_index_;
         if (one_at_a_time) break;
       }
-      if (reference_index_ >= references_.size() && all_objects_observed(types)) {
+      if (reference_index_ >= references_.size() && all_in_view) {
         done_time_s_ = t_s;
       }
       break;
@@ -202,7 +198,7 @@ bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
     case TaskKind::kAggregation:
     case TaskKind::kSorting:
       if (objects_in_zone(p_W, types) == static_cast<int>(p_W.size()) &&
-          all_objects_observed(types)) {
+          all_in_view) {
         done_time_s_ = t_s;
       }
       break;
@@ -227,13 +223,6 @@ std::vector<Eigen::Vector2d> TaskProgress::references(
     }
   }
   return out;
-}
-
-bool TaskProgress::all_objects_observed(const std::vector<std::string>& types) const {
-  for (const auto& [type, n] : spec_.object_counts) {
-    if (std::count(types.begin(), types.end(), type) < n) return false;
-  }
-  return true;
 }
 
 int TaskProgress::objects_in_zone(const std::vector<Eigen::Vector2d>& p_W,

@@ -18,9 +18,10 @@
 //    already placed; cotton can be moved with s far enough from the tracers' zone that their air
 //    stays below 2.0 m/s. docs/controller.md has the measurements.
 //
-// "Every object" means every object the task is about (TaskSpec::object_counts, from the
-// scenario's list), not every object seen: a camera loses objects (one blown out of its view, one
-// in a merge), and the ones it still sees being in their zones says nothing of the others.
+// A task is never done while the perception reports objects out of its view
+// (Observation::out_of_view): the ones still seen being in their zones says nothing of one blown
+// off the camera's floor. An object hidden in a merge of touching objects is not out of view: a
+// packed group in the zone is done even when the camera resolves only some of it.
 //
 // Plain data (TaskSpec, Zone) plus one stateful tracker per run (TaskProgress); no dependence on
 // how positions were obtained.
@@ -75,18 +76,11 @@ struct TaskSpec {
   /// still be able to put s beyond it to bring it back (s reaches 1.65 m at 60 deg of tilt).
   double reach_m = 1.0;
 
-  // --- all tasks ---
-  /// How many objects of each type the task is about (the scenario fills it from its object
-  /// list). The task is done only when at least that many of each type are observed (and, for
-  /// the zone tasks, every observed object is in its zone). Empty: whatever is observed.
-  std::map<std::string, int> object_counts;
-
   /// The run fails when the task is not done by then (s of simulated or rig time).
   double time_limit_s = 300.0;
 
   /// Throws InputError naming `source` and the field when the spec cannot be run (too few path
-  /// vertices, non-finite or non-positive sizes, a sorting task without zones, a negative
-  /// object count).
+  /// vertices, non-finite or non-positive sizes, a sorting task without zones).
   void validate(const std::string& source) const;
 };
 
@@ -119,11 +113,11 @@ class TaskProgress {
   /// Takes the objects' current positions and types (object j: p_W[j], types[j]; the set may
   /// change between calls when a camera loses or finds objects): advances the path reference
   /// while it is reached (one reference per call at most for vertex references, as many as are
-  /// within reach otherwise), and updates done(): never done while fewer objects of a type are
-  /// observed than spec().object_counts names. Returns true when the task is done. Throws
+  /// within reach otherwise), and updates done(): never done while `out_of_view` > 0 (objects
+  /// the perception saw leave its view). Returns true when the task is done. Throws
   /// InputError for a sorting task and a type without a zone.
   bool update(const std::vector<Eigen::Vector2d>& p_W, const std::vector<std::string>& types,
-              double t_s);
+              double t_s, int out_of_view = 0);
 
   bool done() const { return done_time_s_.has_value(); }
   /// Time (s) at which update() first found the task done.
@@ -144,8 +138,6 @@ class TaskProgress {
   size_t reference_count() const { return references_.size(); }
   const std::vector<Eigen::Vector2d>& path_reference_points() const { return references_; }
 
-  /// Whether every object the task names (spec().object_counts) is among `types`.
-  bool all_objects_observed(const std::vector<std::string>& types) const;
   /// Objects inside their zone now (zone tasks), or within switch distance of the last
   /// reference (path).
   int objects_in_zone(const std::vector<Eigen::Vector2d>& p_W,

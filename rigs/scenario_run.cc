@@ -169,7 +169,7 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
                    {"detections", c.detections},    {"tracks", c.new_tracks},
                    {"missed", c.missed},            {"merged", c.merged},
                    {"lost", c.lost},                {"left_view", c.left_view},
-                   {"duplicates", r.vision_duplicates}};
+                   {"entered_view", c.entered_view}, {"duplicates", r.vision_duplicates}};
   }
   return j.dump(2) + "\n";
 }

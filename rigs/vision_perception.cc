@@ -82,6 +82,8 @@ Observation VisionPerception::observe(const Twin& twin) {
   const TrackReport report = report_tracks(m.tracker.tracks(), m.last_t_s, m.options);
   o.objects = report.objects;
   m.duplicates += report.duplicates;
+  const TrackerCounters& c = m.tracker.counters();
+  o.out_of_view = static_cast<int>(std::max<int64_t>(0, c.left_view - c.entered_view));
   return o;
 }
 

@@ -387,8 +387,6 @@ TaskSpec read_task(const Reader& r, const Field& f, const std::vector<ObjectSpec
       break;
     }
   }
-  // The task is about every object the scenario places.
-  for (const ObjectSpec& o : objects) ++task.object_counts[o.type];
   return task;
 }
 

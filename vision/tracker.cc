@@ -265,6 +265,7 @@ const std::vector<Track>& Tracker::update(double t_s, const std::vector<Detectio
     tracks_.push_back(std::move(track));
     histories_.push_back(std::move(history));
     ++counters_.new_tracks;
+    if (counters_.frames > 1 && near_edge(detections[j].centre_px)) ++counters_.entered_view;
   }
   return tracks_;
 }

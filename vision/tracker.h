@@ -91,6 +91,7 @@ struct TrackerCounters {
   int64_t merged = 0;         ///< of those, the track was beside another track's detection
   int64_t lost = 0;           ///< tracks ended after max_missed_frames
   int64_t left_view = 0;      ///< tracks ended at the image's edge
+  int64_t entered_view = 0;   ///< tracks started at the image's edge after the first frame
 };
 
 class Tracker {

@@ -124,41 +124,27 @@ TEST(TaskProgress, ZonesPerTypeAndAggregation) {
   EXPECT_EQ(r[1], Eigen::Vector2d::Zero());
 }
 
-// The task is about the objects it names: the ones a camera still sees being in their zones does
-// not finish it while others are missing (one blown out of the view), for zone tasks and paths.
-TEST(TaskProgress, NeverDoneWhileANamedObjectIsUnseen) {
+// An object the perception saw leave its view keeps the task open: the ones still seen being in
+// their zones says nothing of it (zone tasks and paths alike).
+TEST(TaskProgress, NeverDoneWhileAnObjectIsOutOfView) {
   TaskSpec sort;
   sort.kind = TaskKind::kSorting;
   sort.zones_by_type = {{"tracer", Zone{{-0.6, 0}, 0.105}}, {"cotton", Zone{{0.6, 0}, 0.105}}};
-  sort.object_counts = {{"tracer", 2}, {"cotton", 1}};
   TaskProgress progress(sort);
-  // Two of three seen, both in their zones: not done.
-  EXPECT_FALSE(progress.update({{-0.6, 0.0}, {0.6, 0.0}}, {"tracer", "cotton"}, 1.0));
-  EXPECT_FALSE(progress.all_objects_observed({"tracer", "cotton"}));
-  // Three seen, but two cottons and one tracer: still a tracer short.
-  EXPECT_FALSE(progress.update({{-0.6, 0.0}, {0.6, 0.0}, {0.62, 0.0}},
-                               {"tracer", "cotton", "cotton"}, 2.0));
+  const std::vector<Eigen::Vector2d> in = {{-0.6, 0.0}, {0.6, 0.0}};
+  EXPECT_FALSE(progress.update(in, {"tracer", "cotton"}, 1.0, /*out_of_view=*/1));
   EXPECT_FALSE(progress.done());
-  // All three seen in their zones: done at that time.
-  EXPECT_TRUE(progress.update({{-0.6, 0.0}, {0.6, 0.0}, {-0.62, 0.0}},
-                              {"tracer", "cotton", "tracer"}, 3.0));
-  EXPECT_DOUBLE_EQ(*progress.done_time_s(), 3.0);
+  EXPECT_TRUE(progress.update(in, {"tracer", "cotton"}, 2.0, /*out_of_view=*/0));
+  EXPECT_DOUBLE_EQ(*progress.done_time_s(), 2.0);
 
-  // A path task past its last reference waits for the missing object too.
-  TaskSpec line = line_task();
-  line.object_counts = {{"tracer", 2}};
-  TaskProgress path(line);
+  // A path task past its last reference waits too.
+  TaskProgress path(line_task());
   double t = 0.0;
   for (const Eigen::Vector2d& r : path.path_reference_points()) {
-    EXPECT_FALSE(path.update({r}, {"tracer"}, t += 1.0));
+    EXPECT_FALSE(path.update({r}, {"tracer"}, t += 1.0, 1));
   }
   EXPECT_EQ(path.reference_index(), path.reference_count());
-  const Eigen::Vector2d end = line.path_W.back();
-  EXPECT_TRUE(path.update({end, end}, {"tracer", "tracer"}, t += 1.0));
-
-  // Counts must not be negative.
-  sort.object_counts = {{"tracer", -1}};
-  EXPECT_THROW(sort.validate("x.yaml"), InputError);
+  EXPECT_TRUE(path.update({line_task().path_W.back()}, {"tracer"}, t += 1.0, 0));
 }
 
 // Sorting in stages: the type that needs the strongest air first (tracer 2.0 m/s against cotton

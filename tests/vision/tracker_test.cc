@@ -243,6 +243,10 @@ TEST(Tracker, LeavingTheViewEndsTheTrackAtOnce) {
   EXPECT_TRUE(tracker.tracks().empty());
   EXPECT_EQ(tracker.counters().left_view, 1);
   EXPECT_EQ(tracker.counters().lost, 0);
+  EXPECT_EQ(tracker.counters().entered_view, 0);
+  // Coming back in at the edge starts a track there.
+  tracker.update((f + 1) * kDt, {at({1.33, 0.0})});
+  EXPECT_EQ(tracker.counters().entered_view, 1);
 }
 
 TEST(Tracker, GateStartsANewTrackForAJump) {
