@@ -87,8 +87,10 @@ struct Scratch {
   // Extended planning.
   std::vector<WindowStart> window_start;
   std::vector<Eigen::Vector2d> end_W;
-  // Transition.
+  // Transition: the schedule, and the stagnation point of the command in force (the same for
+  // every candidate of one decision, found at the first).
   OrientationSchedule schedule;
+  std::optional<Eigen::Vector2d> s_now;
 };
 
 // The schedule of a re-aim from `from` to `to` (predict_transition, see cem_planner.h): `from`
@@ -241,7 +243,8 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     const double t_new = transition_schedule(params.transition, *pr.nozzle_now,
                                              *aim.orientation, scratch.schedule);
     // eq. (9) from the air that blows now: the present speed along the ray from the previous s.
-    const Eigen::Vector2d s_now = model.at(*pr.nozzle_now).stagnation_point();
+    if (!scratch.s_now) scratch.s_now = model.at(*pr.nozzle_now).stagnation_point();
+    const Eigen::Vector2d& s_now = *scratch.s_now;
     scratch.start.resize(m);
     for (size_t j = 0; j < m; ++j) {
       const Eigen::Vector2d d = pr.positions_W[j] - s_now;
