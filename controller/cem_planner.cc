@@ -243,7 +243,7 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     const double t_new = transition_schedule(params.transition, *pr.nozzle_now,
                                              *aim.orientation, scratch.schedule);
     // eq. (9) from the air that blows now: the present speed along the ray from the previous s.
-    if (!scratch.s_now) scratch.s_now = model.at(*pr.nozzle_now).stagnation_point();
+    if (!scratch.s_now) scratch.s_now = model.rays_at(*pr.nozzle_now).stagnation_point();
     const Eigen::Vector2d& s_now = *scratch.s_now;
     scratch.start.resize(m);
     for (size_t j = 0; j < m; ++j) {
@@ -261,7 +261,8 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     *feasible = true;
     return end_cost(pr, scratch.end_W);
   }
-  const OrientedField field = model.at(*aim.orientation);
+  // The fast predictor follows each object's ray: the field's rays are all it needs.
+  const OrientedRays field = model.rays_at(*aim.orientation);
   // eq. (9): each object moves radially away from s; its present speed along that ray carries
   // over (eq. 8's state), a speed toward s does not.
   scratch.start.resize(m);

@@ -17,6 +17,16 @@ double coefficient(const FieldCoefficients& c, int k) {
   return k == 0 ? c.b1 : k == 1 ? c.b2 : c.b3;
 }
 
+// Direction alpha (rad, any value) as 1-degree bin k in [0, 359] and the weight in [0, 1) of bin
+// k + 1 (wrapping at 360) for linear interpolation between their profiles.
+double alpha_bin(double alpha_rad, int* k) {
+  double u = alpha_rad * kBinsPerRad;
+  u -= FieldTable::kAlphaBins * std::floor(u / FieldTable::kAlphaBins);
+  *k = static_cast<int>(u);
+  if (*k >= FieldTable::kAlphaBins) *k = FieldTable::kAlphaBins - 1;  // u just below 360
+  return u - *k;
+}
+
 }  // namespace
 
 AirFieldModel::AirFieldModel(NozzleGeometry geometry, FieldTable table)
@@ -39,7 +49,7 @@ AirFieldModel AirFieldModel::with_default_table() {
   return AirFieldModel(NozzleGeometry{}, FieldTable::default_table());
 }
 
-OrientedField AirFieldModel::at(const NozzleOrientation& o) const {
+OrientedRays AirFieldModel::rays_at(const NozzleOrientation& o) const {
   if (!(std::isfinite(o.pan_rad) && std::isfinite(o.tilt_rad) && o.tilt_rad >= 0 &&
         o.tilt_rad < kPi / 2)) {
     throw InputError("nozzle orientation: pan must be finite and tilt in [0, 90) deg, got pan " +
@@ -52,41 +62,62 @@ OrientedField AirFieldModel::at(const NozzleOrientation& o) const {
                      std::to_string(rad_to_deg(fold_tilt_rad(geometry_))) +
                      " deg, where the stagnation-point model is not defined");
   }
+  OrientedRays f;
+  f.model_ = this;
+  f.orientation_ = o;
+  // (i) eqs. (1), (2)
+  f.c_W_ = projection_point(geometry_, o);
+  f.s_W_ = stagnation_point(geometry_, o);
+  // Makima in tilt, clamped to the fitted range: one set of Hermite weights serves all profiles.
+  const std::vector<double>& tilts = table_.tilts_rad();
+  double t;
+  locate_interval(tilts, o.tilt_rad, &f.tilt_interval_, &t);
+  f.coefficient_tilt_rad_ = std::clamp(o.tilt_rad, tilts.front(), tilts.back());
+  const size_t i = f.tilt_interval_;
+  const HermiteWeights w = hermite_weights(t, tilts[i + 1] - tilts[i]);
+  f.tilt_weights_ = {w.h00, w.h10, w.h01, w.h11};
+  return f;
+}
+
+FieldCoefficients AirFieldModel::profile(const OrientedRays& rays, int a) const {
+  const size_t i = rays.tilt_interval_;
+  const auto& w = rays.tilt_weights_;
+  const FieldCoefficients& y0 = table_.at(i, a);
+  const FieldCoefficients& y1 = table_.at(i + 1, a);
+  const auto& d0 = slopes_by_tilt_[i][a];
+  const auto& d1 = slopes_by_tilt_[i + 1][a];
+  return {w[0] * y0.b1 + w[1] * d0[0] + w[2] * y1.b1 + w[3] * d1[0],
+          w[0] * y0.b2 + w[1] * d0[1] + w[2] * y1.b2 + w[3] * d1[1],
+          w[0] * y0.b3 + w[1] * d0[2] + w[2] * y1.b3 + w[3] * d1[2]};
+}
+
+OrientedField AirFieldModel::at(const NozzleOrientation& o) const {
+  const OrientedRays rays = rays_at(o);
   OrientedField f;
   f.orientation_ = o;
   f.cos_pan_ = std::cos(o.pan_rad);
   f.sin_pan_ = std::sin(o.pan_rad);
-  // (i) eqs. (1), (2)
-  f.c_W_ = projection_point(geometry_, o);
-  f.s_W_ = stagnation_point(geometry_, o);
-
-  // Makima in tilt, clamped to the fitted range: one set of Hermite weights serves all profiles.
-  const std::vector<double>& tilts = table_.tilts_rad();
-  size_t i;
-  double t;
-  locate_interval(tilts, o.tilt_rad, &i, &t);
-  f.coefficient_tilt_rad_ = std::clamp(o.tilt_rad, tilts.front(), tilts.back());
-  const HermiteWeights w = hermite_weights(t, tilts[i + 1] - tilts[i]);
-  for (int a = 0; a < FieldTable::kAlphaBins; ++a) {
-    const FieldCoefficients& y0 = table_.at(i, a);
-    const FieldCoefficients& y1 = table_.at(i + 1, a);
-    const auto& d0 = slopes_by_tilt_[i][a];
-    const auto& d1 = slopes_by_tilt_[i + 1][a];
-    f.ring_[a].b1 = w.h00 * y0.b1 + w.h10 * d0[0] + w.h01 * y1.b1 + w.h11 * d1[0];
-    f.ring_[a].b2 = w.h00 * y0.b2 + w.h10 * d0[1] + w.h01 * y1.b2 + w.h11 * d1[1];
-    f.ring_[a].b3 = w.h00 * y0.b3 + w.h10 * d0[2] + w.h01 * y1.b3 + w.h11 * d1[2];
-  }
+  f.c_W_ = rays.projection_point();
+  f.s_W_ = rays.stagnation_point();
+  f.coefficient_tilt_rad_ = rays.coefficient_tilt_rad();
+  for (int a = 0; a < FieldTable::kAlphaBins; ++a) f.ring_[a] = profile(rays, a);
   f.ring_[FieldTable::kAlphaBins] = f.ring_[0];
   return f;
 }
 
+OrientedField OrientedRays::field() const { return model_->at(orientation_); }
+
+FieldCoefficients OrientedRays::coefficients(double alpha_rad) const {
+  int k;
+  const double w = alpha_bin(alpha_rad, &k);
+  const FieldCoefficients a = model_->profile(*this, k);
+  const FieldCoefficients b = model_->profile(*this, k + 1 < FieldTable::kAlphaBins ? k + 1 : 0);
+  return {a.b1 + w * (b.b1 - a.b1), a.b2 + w * (b.b2 - a.b2), a.b3 + w * (b.b3 - a.b3)};
+}
+
 FieldCoefficients OrientedField::coefficients(double alpha_rad) const {
-  // Linear interpolation between the two neighbouring 1-degree profiles, wrapping at 360.
-  double u = alpha_rad * kBinsPerRad;
-  u -= FieldTable::kAlphaBins * std::floor(u / FieldTable::kAlphaBins);
-  int k = static_cast<int>(u);
-  if (k >= FieldTable::kAlphaBins) k = FieldTable::kAlphaBins - 1;  // u just below 360 rounding up
-  const double w = u - k;
+  int k;
+  const double w = alpha_bin(alpha_rad, &k);
   const FieldCoefficients& a = ring_[k];
   const FieldCoefficients& b = ring_[k + 1];
   return {a.b1 + w * (b.b1 - a.b1), a.b2 + w * (b.b2 - a.b2), a.b3 + w * (b.b3 - a.b3)};

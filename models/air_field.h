@@ -9,9 +9,14 @@
 //        from s; zero at s.
 //
 // AirFieldModel is the fixed model (geometry + table), immutable after construction and safe to
-// share between threads. OrientedField is the per-orientation data: it holds s and the 360
-// coefficient profiles already interpolated to the orientation's tilt, so evaluating a point is a
-// handful of arithmetic operations and two exponentials.
+// share between threads. Per orientation, two views of the same field:
+//  - OrientedField holds s and the 360 coefficient profiles already interpolated to the
+//    orientation's tilt, so evaluating a point is a handful of arithmetic operations and two
+//    exponentials: for fields evaluated at many points (the twin's drag, grids, CVODE).
+//  - OrientedRays holds s and the tilt's interpolation weights only, and interpolates a profile
+//    when asked for one: for predictors that follow each object's ray from s, where one profile
+//    per object serves a whole segment (models/fast_predictor.h). Building it skips the 360
+//    profiles; its profiles are bit-identical to OrientedField's.
 
 #include <Eigen/Core>
 #include <array>
@@ -23,6 +28,35 @@
 namespace airtwin {
 
 class AirFieldModel;
+class OrientedField;
+
+/// The field for one nozzle orientation, seen along rays from s: its profiles are interpolated on
+/// demand from the model, which must outlive it. Cheap to build and copy, immutable.
+class OrientedRays {
+ public:
+  const Eigen::Vector2d& stagnation_point() const { return s_W_; }
+  const Eigen::Vector2d& projection_point() const { return c_W_; }
+  const NozzleOrientation& orientation() const { return orientation_; }
+  double coefficient_tilt_rad() const { return coefficient_tilt_rad_; }
+  const AirFieldModel& model() const { return *model_; }
+
+  /// The eq. (3) profile in direction alpha_rad (from downstream): the two neighbouring 1-degree
+  /// profiles interpolated in tilt, then linearly in alpha. Equals OrientedField::coefficients.
+  FieldCoefficients coefficients(double alpha_rad) const;
+  /// The full field of this orientation (AirFieldModel::at).
+  OrientedField field() const;
+
+ private:
+  friend class AirFieldModel;
+  const AirFieldModel* model_ = nullptr;
+  NozzleOrientation orientation_;
+  double coefficient_tilt_rad_ = 0.0;
+  Eigen::Vector2d c_W_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d s_W_ = Eigen::Vector2d::Zero();
+  // Makima in tilt: the table's interval and the Hermite weights h00, h10, h01, h11 in it.
+  size_t tilt_interval_ = 0;
+  std::array<double, 4> tilt_weights_{};
+};
 
 /// The field for one nozzle orientation. Cheap to build (~1 us), cheap to copy, immutable.
 class OrientedField {
@@ -80,6 +114,8 @@ class AirFieldModel {
   /// The field for one orientation (pan, tilt in rad). Throws InputError unless pan is finite and
   /// tilt in [0, fold_tilt_rad(geometry)) (64.4 deg: beyond it eq. (2) is not meaningful).
   OrientedField at(const NozzleOrientation& o) const;
+  /// The same field seen along rays (OrientedRays): cheaper to build, same errors.
+  OrientedRays rays_at(const NozzleOrientation& o) const;
 
   /// Convenience: velocity (m/s) at p_W (m) for orientation o. Prefer at() for many points.
   Eigen::Vector2d velocity(const NozzleOrientation& o, const Eigen::Vector2d& p_W) const {
@@ -91,6 +127,10 @@ class AirFieldModel {
   FieldTable table_;
   // Makima node slopes over tilt: slopes_by_tilt_[tilt node][alpha][coefficient b1, b2, b3].
   std::vector<std::array<std::array<double, 3>, FieldTable::kAlphaBins>> slopes_by_tilt_;
+
+  friend class OrientedRays;
+  // The profile at 1-degree bin `alpha_bin` interpolated in tilt with `rays`' weights.
+  FieldCoefficients profile(const OrientedRays& rays, int alpha_bin) const;
 };
 
 }  // namespace airtwin

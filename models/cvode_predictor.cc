@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
 #include "common/errors.h"
 
@@ -149,10 +150,14 @@ CvodePredictor::CvodePredictor(const Options& options) : options_(options) {
 
 void CvodePredictor::advance(const Segment& seg, std::span<const ObjectDynamics> dynamics,
                              std::span<ObjectState> state, std::span<double> rest_since_s) const {
+  // CVODE evaluates the field anywhere on the floor: the full field, built here when the segment
+  // came as rays.
+  std::optional<OrientedField> built;
+  if (seg.field == nullptr) built = seg.rays->field();
+  const OrientedField& field = seg.field ? *seg.field : *built;
   CallbackData data;
-  data.field = seg.field;
+  data.field = &field;
   CvodeSession cvode(options_, &data);
-  const OrientedField& field = *seg.field;
   const size_t m = state.size();
   const size_t n_samples = seg.sample_times_s.size();
 

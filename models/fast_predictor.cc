@@ -221,7 +221,6 @@ FastPredictor::FastPredictor(const Options& options) : options_(options) {
 
 void FastPredictor::advance(const Segment& seg, std::span<const ObjectDynamics> dynamics,
                             std::span<ObjectState> state, std::span<double> rest_since_s) const {
-  const OrientedField& field = *seg.field;
   const size_t m = state.size();
   const size_t n_samples = seg.sample_times_s.size();
   const double max_step = options_.max_step_s, rate_factor = options_.rate_factor;
@@ -245,7 +244,7 @@ void FastPredictor::advance(const Segment& seg, std::span<const ObjectDynamics> 
       if (j >= b.n) continue;
       const ObjectState& s = state[first + j];
       const ObjectDynamics& xi = dynamics[first + j];
-      const Ray ray = ray_through(field, s.p_W);
+      const Ray ray = seg.field ? ray_through(*seg.field, s.p_W) : ray_through(*seg.rays, s.p_W);
       s_W[j] = ray.s_W;
       u_W[j] = ray.u_W;
       b.r[j] = ray.r0;

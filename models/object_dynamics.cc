@@ -105,7 +105,11 @@ const ObjectDynamics& ObjectTypes::at(std::string_view name) const {
   throw InputError(source_ + ": unknown object '" + std::string(name) + "', known: " + known);
 }
 
-Ray ray_through(const OrientedField& field, const Eigen::Vector2d& p_W) {
+namespace {
+
+// Both views of the field expose s, the orientation and coefficients(alpha).
+template <typename Field>
+Ray ray_of(const Field& field, const Eigen::Vector2d& p_W) {
   Ray ray;
   ray.s_W = field.stagnation_point();
   const Eigen::Vector2d d = p_W - ray.s_W;
@@ -120,6 +124,16 @@ Ray ray_through(const OrientedField& field, const Eigen::Vector2d& p_W) {
     ray.profile = field.coefficients(0.0);
   }
   return ray;
+}
+
+}  // namespace
+
+Ray ray_through(const OrientedField& field, const Eigen::Vector2d& p_W) {
+  return ray_of(field, p_W);
+}
+
+Ray ray_through(const OrientedRays& rays, const Eigen::Vector2d& p_W) {
+  return ray_of(rays, p_W);
 }
 
 PlanarRate moving_rate(const OrientedField& field, const ObjectDynamics& xi,

@@ -100,8 +100,10 @@ struct Ray {
   Eigen::Vector2d point(double r) const { return s_W + r * u_W; }
 };
 
-/// The ray from `field`'s stagnation point through p_W (m), with its eq. (3) profile.
+/// The ray from `field`'s stagnation point through p_W (m), with its eq. (3) profile. The two
+/// views of one orientation give the same ray, bit for bit.
 Ray ray_through(const OrientedField& field, const Eigen::Vector2d& p_W);
+Ray ray_through(const OrientedRays& rays, const Eigen::Vector2d& p_W);
 
 /// Time derivative of the planar state (p_W, v) while the object moves (eqs. 8-9). Uses the
 /// smooth continuation dp/dt = v u (no max): while moving v >= 0, so it equals eq. (9), and the

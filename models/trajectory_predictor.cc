@@ -88,24 +88,24 @@ void TrajectoryPredictor::predict(const AirFieldModel& model, const OrientationS
                      num(schedule.front().t_start_s) + " s, so no orientation is defined at t = 0");
   }
   // The entries that act within [0, horizon): the last one starting at or before 0, then the
-  // ones starting inside the horizon. model.at() validates each orientation.
+  // ones starting inside the horizon. model.rays_at() validates each orientation; the rays are
+  // all a ray-following predictor needs, and the others build the full field per segment.
   size_t first = 0;
   while (first + 1 < schedule.size() && schedule[first + 1].t_start_s <= 0) ++first;
-  // Reserved: an OrientedField holds a profile per degree, and a growing vector would copy them.
-  std::vector<OrientedField> fields;
+  std::vector<OrientedRays> rays;
   std::vector<double> starts;
-  fields.reserve(schedule.size() - first);
+  rays.reserve(schedule.size() - first);
   starts.reserve(schedule.size() - first);
   for (size_t i = first;
        i < schedule.size() && (i == first || schedule[i].t_start_s < options.horizon_s); ++i) {
     try {
-      fields.push_back(model.at(schedule[i].orientation));
+      rays.push_back(model.rays_at(schedule[i].orientation));
     } catch (const InputError& e) {
       throw InputError("orientation schedule: entry " + std::to_string(i) + ": " + e.what());
     }
     starts.push_back(i == first ? 0.0 : schedule[i].t_start_s);
   }
-  run(fields, starts, dynamics, start, options, out);
+  run({}, rays, starts, dynamics, start, options, out);
 }
 
 void TrajectoryPredictor::predict(const OrientedField& field,
@@ -114,8 +114,18 @@ void TrajectoryPredictor::predict(const OrientedField& field,
                                   const PredictionOptions& options, Prediction& out) const {
   validate_options(options);
   const double t0 = 0.0;
-  run(std::span<const OrientedField>(&field, 1), std::span<const double>(&t0, 1), dynamics, start,
-      options, out);
+  run(std::span<const OrientedField>(&field, 1), {}, std::span<const double>(&t0, 1), dynamics,
+      start, options, out);
+}
+
+void TrajectoryPredictor::predict(const OrientedRays& rays,
+                                  std::span<const ObjectDynamics> dynamics,
+                                  std::span<const ObjectState> start,
+                                  const PredictionOptions& options, Prediction& out) const {
+  validate_options(options);
+  const double t0 = 0.0;
+  run({}, std::span<const OrientedRays>(&rays, 1), std::span<const double>(&t0, 1), dynamics,
+      start, options, out);
 }
 
 Prediction TrajectoryPredictor::predict(const AirFieldModel& model,
@@ -137,7 +147,17 @@ Prediction TrajectoryPredictor::predict(const OrientedField& field,
   return out;
 }
 
+Prediction TrajectoryPredictor::predict(const OrientedRays& rays,
+                                        std::span<const ObjectDynamics> dynamics,
+                                        std::span<const ObjectState> start,
+                                        const PredictionOptions& options) const {
+  Prediction out;
+  predict(rays, dynamics, start, options, out);
+  return out;
+}
+
 void TrajectoryPredictor::run(std::span<const OrientedField> fields,
+                              std::span<const OrientedRays> rays,
                               std::span<const double> starts_s,
                               std::span<const ObjectDynamics> dynamics,
                               std::span<const ObjectState> start, const PredictionOptions& options,
@@ -167,16 +187,21 @@ void TrajectoryPredictor::run(std::span<const OrientedField> fields,
 
   // Segments of constant orientation; each takes the samples in (t0, t1].
   size_t next_sample = 1;
-  for (size_t i = 0; i < fields.size(); ++i) {
+  const size_t n_segments = fields.empty() ? rays.size() : fields.size();
+  for (size_t i = 0; i < n_segments; ++i) {
     const double t0 = i == 0 ? 0.0 : starts_s[i];
-    const double t1 = i + 1 < fields.size() ? std::min(starts_s[i + 1], horizon) : horizon;
+    const double t1 = i + 1 < n_segments ? std::min(starts_s[i + 1], horizon) : horizon;
     if (!(t1 > t0)) continue;
     size_t end_sample = next_sample;
     while (end_sample < out.sample_times_s.size() && out.sample_times_s[end_sample] <= t1) {
       ++end_sample;
     }
     Segment seg;
-    seg.field = &fields[i];
+    if (fields.empty()) {
+      seg.rays = &rays[i];
+    } else {
+      seg.field = &fields[i];
+    }
     seg.t0_s = t0;
     seg.t1_s = t1;
     seg.sample_times_s =

@@ -89,6 +89,11 @@ class TrajectoryPredictor {
   void predict(const OrientedField& field, std::span<const ObjectDynamics> dynamics,
                std::span<const ObjectState> start, const PredictionOptions& options,
                Prediction& out) const;
+  /// The same with the field seen along rays (AirFieldModel::rays_at: cheaper to build when the
+  /// predictor follows rays, as FastPredictor does). Same errors.
+  void predict(const OrientedRays& rays, std::span<const ObjectDynamics> dynamics,
+               std::span<const ObjectState> start, const PredictionOptions& options,
+               Prediction& out) const;
 
   /// Conveniences returning a fresh Prediction.
   Prediction predict(const AirFieldModel& model, const OrientationSchedule& schedule,
@@ -97,11 +102,17 @@ class TrajectoryPredictor {
   Prediction predict(const OrientedField& field, std::span<const ObjectDynamics> dynamics,
                      std::span<const ObjectState> start,
                      const PredictionOptions& options = {}) const;
+  Prediction predict(const OrientedRays& rays, std::span<const ObjectDynamics> dynamics,
+                     std::span<const ObjectState> start,
+                     const PredictionOptions& options = {}) const;
 
  protected:
-  /// One segment of constant orientation, [t0_s, t1_s].
+  /// One segment of constant orientation, [t0_s, t1_s]. Its field comes in one of two views,
+  /// exactly one set: the full field when the caller built one, else the rays (the schedule
+  /// path builds only those; OrientedRays::field() gives the full one).
   struct Segment {
     const OrientedField* field = nullptr;
+    const OrientedRays* rays = nullptr;
     double t0_s = 0.0;
     double t1_s = 0.0;
     /// Sample times inside (t0, t1], increasing; the states there go to
@@ -118,7 +129,9 @@ class TrajectoryPredictor {
                        std::span<ObjectState> state, std::span<double> rest_since_s) const = 0;
 
  private:
-  void run(std::span<const OrientedField> fields, std::span<const double> starts_s,
+  // The segments' fields come from `fields` or, when it is empty, from `rays`.
+  void run(std::span<const OrientedField> fields, std::span<const OrientedRays> rays,
+           std::span<const double> starts_s,
            std::span<const ObjectDynamics> dynamics, std::span<const ObjectState> start,
            const PredictionOptions& options, Prediction& out) const;
 };

@@ -195,6 +195,47 @@ TEST(AirField, SharedModelIsSafeAcrossThreads) {
   for (int t = 0; t < 4; ++t) EXPECT_EQ(serial[t], parallel[t]);
 }
 
+TEST(AirField, RaysViewEqualsTheFullField) {
+  // OrientedRays interpolates each profile on demand, OrientedField all 360 up front: the same
+  // arithmetic, so the same bits, in every direction (the wrap at 360 included) and at every
+  // tilt (clamped ones included).
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> pan(-400.0, 400.0), tilt(0.0, 64.0), alpha(-7.0, 13.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    const NozzleOrientation o = deg(pan(rng), trial == 0 ? 0.0 : tilt(rng));
+    const OrientedField f = model.at(o);
+    const OrientedRays rays = model.rays_at(o);
+    EXPECT_EQ(rays.stagnation_point(), f.stagnation_point());
+    EXPECT_EQ(rays.projection_point(), f.projection_point());
+    EXPECT_EQ(rays.coefficient_tilt_rad(), f.coefficient_tilt_rad());
+    EXPECT_EQ(&rays.model(), &model);
+    for (int k = 0; k < 40; ++k) {
+      const double a = k == 0 ? std::nextafter(2 * kPi, 0.0) : k == 1 ? deg_to_rad(359.5)
+                                                                      : alpha(rng);
+      const FieldCoefficients x = rays.coefficients(a), y = f.coefficients(a);
+      ASSERT_EQ(x.b1, y.b1) << "trial " << trial << " alpha " << a;
+      ASSERT_EQ(x.b2, y.b2);
+      ASSERT_EQ(x.b3, y.b3);
+    }
+    const OrientedField g = rays.field();
+    const Eigen::Vector2d p = f.stagnation_point() + Eigen::Vector2d(0.31, -0.17);
+    EXPECT_EQ(g.speed(p), f.speed(p));
+  }
+  // Between table tilts, against Makima itself (an independent truth, as above).
+  const FieldTable& t = model.table();
+  const OrientedRays r30 = model.rays_at(deg(0, 30));
+  for (int a : {0, 90, 271}) {
+    std::vector<double> b2;
+    for (size_t i = 0; i < 3; ++i) b2.push_back(t.at(i, a).b2);
+    EXPECT_NEAR(r30.coefficients(deg_to_rad(a)).b2, Makima(t.tilts_rad(), b2)(deg_to_rad(30)),
+                1e-12);
+  }
+  // The same validation as at().
+  EXPECT_THROW(model.rays_at({0.0, deg_to_rad(65.0)}), InputError);
+  EXPECT_THROW(model.rays_at({NAN, 0.1}), InputError);
+}
+
 TEST(AirField, RejectsInvalidOrientation) {
   const AirFieldModel model = AirFieldModel::with_default_table();
   EXPECT_THROW(model.at({0.0, deg_to_rad(90)}), InputError);

@@ -278,6 +278,36 @@ TEST_P(BothPredictors, ScheduleEntriesBeforeZeroAndAfterTheHorizonAreHandled) {
   EXPECT_EQ(single.end[0].v, scheduled.end[0].v);
 }
 
+TEST_P(BothPredictors, TheRaysViewPredictsWhatTheFullFieldDoes) {
+  // Fast: the rays' profiles are the full field's, bit for bit. CVODE: it builds the full field
+  // from the rays. Either way the same bits, samples and rest times included.
+  const TrajectoryPredictor& p = *GetParam().predictor;
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  std::vector<ObjectDynamics> dyn;
+  std::vector<ObjectState> start;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.7, 0.7), v(0, 0.8);
+  for (int j = 0; j < 12; ++j) {
+    dyn.push_back(j % 2 ? kTracerDynamics : kCottonDynamics);
+    start.push_back({Eigen::Vector2d(u(rng), u(rng)), j % 3 ? v(rng) : 0.0});
+  }
+  PredictionOptions options;
+  options.sample_rate_hz = 40;
+  for (const NozzleOrientation& o : {deg(35, 30), deg(-150, 12), deg(400, 50)}) {
+    const Prediction full = p.predict(model.at(o), dyn, start, options);
+    const Prediction rays = p.predict(model.rays_at(o), dyn, start, options);
+    ASSERT_EQ(full.samples.size(), rays.samples.size());
+    for (size_t j = 0; j < dyn.size(); ++j) {
+      EXPECT_EQ(full.end[j].p_W, rays.end[j].p_W) << "object " << j;
+      EXPECT_EQ(full.end[j].v, rays.end[j].v);
+      EXPECT_EQ(full.rest_since_s[j], rays.rest_since_s[j]);
+    }
+    for (size_t i = 0; i < full.samples.size(); ++i) {
+      EXPECT_EQ(full.samples[i].p_W, rays.samples[i].p_W);
+    }
+  }
+}
+
 TEST_P(BothPredictors, RerunsAreBitIdentical) {
   const TrajectoryPredictor& p = *GetParam().predictor;
   const AirFieldModel model = AirFieldModel::with_default_table();
