@@ -37,8 +37,9 @@
 // pan, so from pan 140 deg to -95 deg the jet sweeps 235 deg over the floor, and the air follows
 // 0.2 s late (models/nozzle_response.h). The paper's prediction applies the new s at once and
 // cannot see a sweep that blows an object the other way; here the prediction runs under the
-// previous orientation for the transit, then under the servos' orientations every 50 ms until
-// they arrive, then Delta T under the new one, all with the fast predictor.
+// previous orientation for the transit (once per decision: every candidate shares it), then
+// through the servos' sweep (their closed-form moves, ServoMove, in 100 ms pieces each holding
+// the orientation at its middle), then Delta T under the new one, all with the fast predictor.
 //
 // Extended planning (an extended model from `airtwin discrepancy`, models/extended_model.h): the
 // trajectories are predicted with models/extended_predictor.h instead, under the model's

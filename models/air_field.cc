@@ -32,6 +32,7 @@ double alpha_bin(double alpha_rad, int* k) {
 AirFieldModel::AirFieldModel(NozzleGeometry geometry, FieldTable table)
     : geometry_(geometry), table_(std::move(table)) {
   geometry_.validate();
+  fold_tilt_rad_ = fold_tilt_rad(geometry_);
   // Makima slopes depend only on the node values, so they are computed once per (alpha, b_k).
   const size_t n = table_.n_tilts();
   slopes_by_tilt_.resize(n);
@@ -56,18 +57,21 @@ OrientedRays AirFieldModel::rays_at(const NozzleOrientation& o) const {
                      std::to_string(rad_to_deg(o.pan_rad)) + " deg, tilt " +
                      std::to_string(rad_to_deg(o.tilt_rad)) + " deg");
   }
-  if (o.tilt_rad >= fold_tilt_rad(geometry_)) {
+  if (o.tilt_rad >= fold_tilt_rad_) {
     throw InputError("nozzle orientation: tilt " + std::to_string(rad_to_deg(o.tilt_rad)) +
                      " deg is at or beyond the fold of eq. (2) at " +
-                     std::to_string(rad_to_deg(fold_tilt_rad(geometry_))) +
+                     std::to_string(rad_to_deg(fold_tilt_rad_)) +
                      " deg, where the stagnation-point model is not defined");
   }
   OrientedRays f;
   f.model_ = this;
   f.orientation_ = o;
-  // (i) eqs. (1), (2)
-  f.c_W_ = projection_point(geometry_, o);
-  f.s_W_ = stagnation_point(geometry_, o);
+  // (i) eqs. (1), (2), as projection_point() and stagnation_point() compute them (same bits),
+  // sharing the projection radius and the pan's direction.
+  const double rho_c = geometry_.height_m * std::tan(o.tilt_rad);
+  const Eigen::Vector2d direction(std::cos(o.pan_rad), std::sin(o.pan_rad));
+  f.c_W_ = rho_c * direction;
+  f.s_W_ = stagnation_radius(geometry_, rho_c) * direction;
   // Makima in tilt, clamped to the fitted range: one set of Hermite weights serves all profiles.
   const std::vector<double>& tilts = table_.tilts_rad();
   double t;

@@ -125,6 +125,7 @@ class AirFieldModel {
  private:
   NozzleGeometry geometry_;
   FieldTable table_;
+  double fold_tilt_rad_ = 0.0;  // fold_tilt_rad(geometry_), checked for every orientation
   // Makima node slopes over tilt: slopes_by_tilt_[tilt node][alpha][coefficient b1, b2, b3].
   std::vector<std::array<std::array<double, 3>, FieldTable::kAlphaBins>> slopes_by_tilt_;
 

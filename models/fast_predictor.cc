@@ -233,7 +233,8 @@ void FastPredictor::advance(const Segment& seg, std::span<const ObjectDynamics> 
     b.n = static_cast<int>(std::min<size_t>(kLanes, m - first));
     b.n_padded = std::min(kLanes, (b.n + 3) / 4 * 4);
     int n_moving = 0;
-    for (int j = 0; j < kLanes; ++j) {
+    // Lanes past n_padded are never read (every loop stops at n or n_padded).
+    for (int j = 0; j < b.n_padded; ++j) {
       b.r[j] = b.v[j] = b.b1[j] = b.b2[j] = b.b3[j] = 0.0;
       b.xi1[j] = b.xi2[j] = b.xi3[j] = b.move_r[j] = b.move_v[j] = 0.0;
       b.t[j] = seg.t0_s;

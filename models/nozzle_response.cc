@@ -39,6 +39,38 @@ void servo_axis_step(double target, double max_speed, double max_acceleration, d
   }
 }
 
+ServoMove::ServoMove(double from, double to, double max_speed, double max_acceleration)
+    : from_(from), to_(to), sign_(to >= from ? 1.0 : -1.0), acceleration_(max_acceleration) {
+  const double distance = std::abs(to - from);
+  if (distance == 0.0) return;
+  // Accelerating to max_speed covers v^2 / (2 a); braking the same again.
+  if (max_speed * max_speed / max_acceleration >= distance) {
+    accelerating_s_ = std::sqrt(distance / max_acceleration);  // triangular
+    peak_speed_ = max_acceleration * accelerating_s_;
+  } else {
+    accelerating_s_ = max_speed / max_acceleration;
+    peak_speed_ = max_speed;
+    cruise_s_ = (distance - max_speed * accelerating_s_) / max_speed;
+  }
+  duration_ = 2.0 * accelerating_s_ + cruise_s_;
+}
+
+double ServoMove::angle(double t) const {
+  if (!(t > 0.0)) return from_;
+  if (t >= duration_) return to_;
+  const double a = acceleration_, ta = accelerating_s_;
+  double travelled;
+  if (t < ta) {
+    travelled = 0.5 * a * t * t;
+  } else if (t < ta + cruise_s_) {
+    travelled = 0.5 * a * ta * ta + peak_speed_ * (t - ta);
+  } else {
+    const double left = duration_ - t;  // braking: the mirror image of accelerating
+    travelled = std::abs(to_ - from_) - 0.5 * a * left * left;
+  }
+  return from_ + sign_ * travelled;
+}
+
 NozzleTimeline::NozzleTimeline(const NozzleResponseParameters& params,
                                const std::vector<TimedCommand>& commands, double t_end_s,
                                double step_s)

@@ -75,4 +75,25 @@ class NozzleTimeline {
 void servo_axis_step(double target, double max_speed, double max_acceleration, double h,
                      double* angle, double* rate);
 
+/// One servo axis moving from rest at `from` to rest at `to` (rad), in closed form: the limit of
+/// servo_axis_step as h -> 0. Full acceleration, cruise at max_speed, full braking onto `to`; a
+/// move too short to reach max_speed brakes from the midpoint (triangular profile). Time 0 is the
+/// command. For predictions that sample the sweep without stepping the servo (the planner's).
+class ServoMove {
+ public:
+  /// Limits as in NozzleResponseParameters (finite, > 0; not checked here).
+  ServoMove(double from, double to, double max_speed, double max_acceleration);
+  /// Time (s) from the command to the stop on `to`; 0 when from == to.
+  double duration_s() const { return duration_; }
+  /// The angle (rad) at time t_s: `from` until 0, `to` from duration_s() on.
+  double angle(double t_s) const;
+
+ private:
+  double from_, to_, sign_, acceleration_;
+  double accelerating_s_ = 0.0;  // length of the acceleration (and braking) phase
+  double cruise_s_ = 0.0;        // length of the phase at peak speed
+  double peak_speed_ = 0.0;
+  double duration_ = 0.0;
+};
+
 }  // namespace airtwin

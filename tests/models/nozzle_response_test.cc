@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/errors.h"
@@ -39,6 +40,29 @@ TEST(NozzleResponse, ServoMovesLikeTheTrapezoidalProfile) {
       EXPECT_LE(std::abs(tl.actual(t + 0.01).pan_rad - tl.actual(t).pan_rad),
                 p.max_speed_radps * 0.01 + 1e-9);
     }
+  }
+}
+
+TEST(NozzleResponse, ServoMoveIsTheSteppedServoInTheLimit) {
+  // The closed form against servo_axis_step at a 10 us step, its h -> 0 limit: short moves
+  // (triangular), long ones (cruising), both directions, and no move at all.
+  const NozzleResponseParameters p;
+  for (double d : {0.0, 0.05, 1.0, -1.5, 4.1}) {
+    SCOPED_TRACE(d);
+    const double from = 0.3, to = from + d;
+    const ServoMove move(from, to, p.max_speed_radps, p.max_acceleration_radps2);
+    EXPECT_NEAR(move.duration_s(),
+                trapezoid_time(std::abs(d), p.max_speed_radps, p.max_acceleration_radps2), 1e-12);
+    double angle = from, rate = 0.0, worst = 0.0;
+    const double h = 1e-5;
+    for (int k = 1; k * h <= move.duration_s() + 0.05; ++k) {
+      servo_axis_step(to, p.max_speed_radps, p.max_acceleration_radps2, h, &angle, &rate);
+      worst = std::max(worst, std::abs(move.angle(k * h) - angle));
+    }
+    // The stepped servo lags by about a step's travel at full speed: 7e-5 rad.
+    EXPECT_LT(worst, 2e-4);
+    EXPECT_EQ(move.angle(-1.0), from);
+    EXPECT_EQ(move.angle(move.duration_s()), to);
   }
 }
 
