@@ -83,6 +83,8 @@ namespace {
 // With the re-aim predicted, how many of the scan's cheapest points under the paper's prediction
 // are ranked again with the re-aim (see plan()).
 constexpr size_t kScanShortlist = 10;
+// How many of the scan's coarse points are refined at the full pitch.
+constexpr size_t kScanCoarseBest = 3;
 
 // Per-decision scratch: the predictor's output and the start states, reused over candidates.
 struct Scratch {
@@ -369,24 +371,44 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     mu /= static_cast<double>(m);
     sigma = Eigen::Matrix2d::Identity() * p.variance0_m2;
     if (p.scan_step_m > 0.0) {
-      // The scan (see cem_planner.h): grid points in row order, ties to the first, so the
-      // result is deterministic; no feasible point leaves mu at the mean. With the re-aim
-      // predicted, the grid is ranked on the paper's prediction (a third of the cost) and the
-      // kScanShortlist cheapest are ranked again with the re-aim.
+      // The scan (see cem_planner.h), coarse to fine: the grid of twice the pitch first, then
+      // the full pitch around its kScanCoarseBest cheapest points (their 3 x 3 neighbourhoods).
+      // Points in a fixed order, ties to the first, so the result is deterministic; no feasible
+      // point leaves mu at the mean. With the re-aim predicted, the grid is ranked on the
+      // paper's prediction (a tenth of the cost) and the kScanShortlist cheapest are ranked
+      // again with the re-aim.
       CemParameters plain = p;
       plain.predict_transition = false;
       const bool rerank = p.predict_transition && problem.nozzle_now.has_value();
       const double r_max = max_stagnation_radius(model_.geometry());
       const int half = static_cast<int>(std::floor(r_max / p.scan_step_m));
+      const int side = 2 * half + 1;
+      std::vector<char> visited(static_cast<size_t>(side) * side, 0);
       std::vector<std::pair<double, Eigen::Vector2d>> ranked;
-      for (int iy = -half; iy <= half; ++iy) {
-        for (int ix = -half; ix <= half; ++ix) {
-          const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
-          if (s.norm() > r_max) continue;
-          bool feasible = false;
-          const double c = evaluate(model_, preds, plain, problem, s, scratch, nullptr, &feasible);
-          result.evaluations += feasible ? 1 : 0;
-          if (feasible) ranked.emplace_back(c, s);
+      auto visit = [&](int ix, int iy) {
+        if (std::abs(ix) > half || std::abs(iy) > half) return;
+        char& seen = visited[static_cast<size_t>(iy + half) * side + (ix + half)];
+        const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
+        if (seen || s.norm() > r_max) return;
+        seen = 1;
+        bool feasible = false;
+        const double c = evaluate(model_, preds, plain, problem, s, scratch, nullptr, &feasible);
+        result.evaluations += feasible ? 1 : 0;
+        if (feasible) ranked.emplace_back(c, s);
+      };
+      // The coarse grid holds the origin (even indices).
+      for (int iy = -half + (half % 2); iy <= half; iy += 2) {
+        for (int ix = -half + (half % 2); ix <= half; ix += 2) visit(ix, iy);
+      }
+      std::vector<std::pair<double, Eigen::Vector2d>> coarse = ranked;
+      std::stable_sort(coarse.begin(), coarse.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (coarse.size() > kScanCoarseBest) coarse.resize(kScanCoarseBest);
+      for (const auto& [c, s] : coarse) {
+        const int cx = static_cast<int>(std::lround(s.x() / p.scan_step_m));
+        const int cy = static_cast<int>(std::lround(s.y() / p.scan_step_m));
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) visit(cx + dx, cy + dy);
         }
       }
       std::stable_sort(ranked.begin(), ranked.end(),

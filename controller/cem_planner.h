@@ -27,10 +27,11 @@
 //      J = sum_j w_j || p_j^end - r_j || + kOutOfReachCost sum_j max(0, |p_j^end| - R_j),
 //    |p| measured from the point below the nozzle; w_j = 1 and R_j = infinity give eq. (10).
 //  - a scan before the plane search (scan_step_m > 0): eq. (10) on a square grid of that pitch
-//    over the disc of reachable stagnation points; the cheapest feasible point becomes mu0
-//    instead of the objects' mean, and the decision is the cheaper of the search's final mean and
-//    that point. With objects spread over the floor the best push can be a metre from their
-//    mean, where a Gaussian of a few cm never samples.
+//    over the disc of reachable stagnation points, coarse to fine (every other point first, then
+//    the full pitch around the three cheapest); the cheapest feasible point becomes mu0 instead
+//    of the objects' mean, and the decision is the cheaper of the search's final mean and that
+//    point. With objects spread over the floor the best push can be a metre from their mean,
+//    where a Gaussian of a few cm never samples.
 //
 // Transition (predict_transition, not in the paper): eq. (10) is evaluated on the prediction of
 // the whole re-aim. The servos take up to ~1 s to turn (7 rad/s, 30 rad/s^2) and never wrap in

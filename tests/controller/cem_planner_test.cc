@@ -272,8 +272,9 @@ TEST_F(CemPlannerTest, WeightsAndReachesShapeEquationTen) {
 // The scan: an object whose only useful push comes from far beyond it. A tracer 0.9 m out,
 // its reference 0.6 m farther out: s must lie on the near side, 0.2-0.5 m from it, i.e.
 // 0.4-0.7 m from the object's mean (the paper's mu0), where the paper's sigma of 5.6 cm never
-// samples. With the scan the decision is at least as cheap as the scan's best grid point
-// (computed here with cost() on the same grid) and moves the tracer most of the way.
+// samples. With the scan (coarse to fine) the decision is at least as cheap as the best point of
+// the full 10 cm grid (computed here with cost() on every point) and moves the tracer most of the
+// way.
 TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
   p_ = {{0.9, 0.0}};
   v_ = {{0.0, 0.0}};
