@@ -329,10 +329,9 @@ TEST_F(CemPlannerTest, TransitionWithoutAReaimIsEquationTen) {
 
 // A re-aim from pan 140 deg to pan -95 deg: the servos do not wrap, so the jet sweeps 235 deg
 // through pan 0. A tracer 0.7 m out at pan 0 is beyond the new air's reach (eq. 8 keeps it at
-// rest), but the sweep passes over it. Checked against a second implementation: the servos'
-// orientation from models/nozzle_response.h's timeline (1 ms steps), sampled at the same 50 ms,
-// integrated by CVODE. A tracer 1 m out at pan -135 deg, on the short way the servos do not
-// take, stays.
+// rest), but the sweep passes over it. Checked against a second implementation: CVODE on the
+// continuous sweep (continuous_sweep_ends above). A tracer 1 m out at pan -135 deg, on the short
+// way the servos do not take, stays.
 TEST_F(CemPlannerTest, TransitionPredictsTheServosSweep) {
   const Eigen::Vector2d s_from = 0.5 * Eigen::Vector2d(std::cos(deg_to_rad(140.0)),
                                                        std::sin(deg_to_rad(140.0)));
