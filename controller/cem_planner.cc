@@ -375,8 +375,8 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
       // the full pitch around its kScanCoarseBest cheapest points (their 3 x 3 neighbourhoods).
       // Points in a fixed order, ties to the first, so the result is deterministic; no feasible
       // point leaves mu at the mean. With the re-aim predicted, the grid is ranked on the
-      // paper's prediction (a tenth of the cost) and the kScanShortlist cheapest are ranked
-      // again with the re-aim.
+      // paper's prediction (one orientation instead of the sweep's dozen) and the
+      // kScanShortlist cheapest are ranked again with the re-aim.
       CemParameters plain = p;
       plain.predict_transition = false;
       const bool rerank = p.predict_transition && problem.nozzle_now.has_value();

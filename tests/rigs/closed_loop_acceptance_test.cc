@@ -77,7 +77,8 @@ TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
 // Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks
 // for 9 of 10, all six in their zones within 60 s (paper: 40 s). Measured: 10/10 on seeds 1-10,
 // 29/30 on seeds 1-30 (docs/controller.md): this test guards seeds 1-10 against regressions; the
-// rate over more seeds is measured with 'airtwin batch'. The median run within 1.5x the paper's time.
+// rate over more seeds is measured with 'airtwin batch'. The median run within 1.5x the paper's
+// time.
 TEST(ClosedLoopAcceptance, SortingByTypeInStages) {
   const Tally t = run_seeds("sorting", 10);
   EXPECT_GE(t.success, 9);
