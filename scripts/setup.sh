@@ -1,11 +1,23 @@
 #!/usr/bin/env bash
 # Installs everything airtwin needs to build, test and run, from Debian 12's archive.
 # Idempotent: packages already present are left alone. Run as root (or with sudo).
+# Usage: bash scripts/setup.sh [--cfd]
+#   --cfd  also installs OpenFOAM (Debian's openfoam, v1912) and the Python used to post-process
+#          its results, for scripts/cfd/ (docs/cfd.md). The default set-up stays without it.
 set -euo pipefail
 
+cfd=0
+for arg in "$@"; do
+  case "$arg" in
+    --cfd) cfd=1 ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown argument '$arg' (expected --cfd or --help)" >&2; exit 2 ;;
+  esac
+done
+
 packages=(
-  # toolchain
-  build-essential cmake pkg-config git clang-format
+  # toolchain (ccache: scripts/test.sh uses it when present)
+  build-essential cmake pkg-config git clang-format ccache
   # physics twin: MuJoCo 2.2 (its CMake config needs qhull headers and OpenGL)
   libmujoco-dev libqhull-dev libgl-dev
   # offscreen rendering
@@ -19,6 +31,10 @@ packages=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+if [ "$cfd" = 1 ]; then
+  # CFD of the jet: OpenFOAM (with Open MPI) and Debian's Python with numpy for post-processing
+  packages+=(openfoam python3 python3-numpy)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
