@@ -575,11 +575,9 @@ def parse_log(path, clock=None):
                     clock.append((it, float(m.group(1))))
             elif "SIMPLE solution converged in" in line:
                 conv = int(line.split("converged in")[1].split()[0])
-            elif version is None and line.startswith("Using:"):
-                version = line.split(":", 1)[1].strip()
-            elif line.startswith("Build:") and version is not None and "Build" not in version:
-                version += "; Build: " + line.split(":", 1)[1].strip()
-    if cur:
+            elif version is None and line.startswith("Build") and ":" in line:
+                version = line.split(":", 1)[1].strip()     # e.g. "OPENFOAM=1912 patch=200626"
+    if cur and ("k" in cur or not res):   # the last iteration, if complete
         res = cur
     return it, res, conv, version
 
@@ -768,6 +766,8 @@ def cmd_convert(name, case_dir, out_dir):
     run = json.load(open(os.path.join(case_dir, "run.json"))) if os.path.exists(
         os.path.join(case_dir, "run.json")) else {}
     it, res, conv, version = parse_log(os.path.join(case_dir, "log.simpleFoam"))
+    if run.get("mesh_time_s") is None:
+        run["mesh_time_s"] = mesh_clock(case_dir)
     hi15 = HEIGHTS.index(0.015)
     spd15 = np.hypot(arr[hi15, 0], arr[hi15, 1])
     k = int(np.nanargmax(spd15))
@@ -797,7 +797,8 @@ def cmd_convert(name, case_dir, out_dir):
         "openfoam_version": version,
         "generator_commit": meta.get("generator_commit"),
         "domain_m": meta["domain_m"],
-        "wall_time_s": run.get("wall_time_s"),
+        "wall_time_s": {"mesh": run.get("mesh_time_s"), "solve": run.get("wall_time_s"),
+                        "note": "elapsed, on a shared 2-core machine under nice 19"},
         "mpi_ranks": run.get("ranks"),
         "grid": {"x0_m": GRID_X0, "dx_m": GRID_D, "nx": GRID_NX, "y0_m": GRID_Y0, "dy_m": GRID_D, "ny": GRID_NY,
                  "row_iy0_sampled_at_y_m": Y_ROW0, "heights_m": HEIGHTS,
@@ -822,6 +823,15 @@ def cmd_convert(name, case_dir, out_dir):
         fh.write("\n")
     print("converted: peak %.2f m/s at z 1.5 cm, s = %s" % (hdr["peak_speed_z015"]["speed_m_s"],
                                                              "%.3f m" % s_x if s_x is not None else "?"))
+
+
+def mesh_clock(case_dir):
+    """Elapsed seconds of snappyHexMesh (the bulk of the meshing), from its log."""
+    p = os.path.join(case_dir, "log.snappyHexMesh")
+    if not os.path.exists(p):
+        return None
+    m = re.findall(r"Finished meshing in = ([0-9.]+)", open(p, errors="replace").read())
+    return int(round(float(m[-1]))) if m else None
 
 
 def stagnation_from_line(x, ux, c):

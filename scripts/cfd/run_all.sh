@@ -124,7 +124,8 @@ solve() {
     rm -rf "$case_dir"/processor*
   fi
   t1=$(date +%s)
-  printf '{"wall_time_s": %d, "ranks": %d}\n' "$((t1 - t0))" "$np" > "$case_dir/run.json"
+  printf '{"wall_time_s": %d, "ranks": %d, "mesh_time_s": %s}\n' "$((t1 - t0))" "$np" \
+    "$(cat "$case_dir/mesh_time_s" 2>/dev/null || echo null)" > "$case_dir/run.json"
   echo "$tag: $("$py" "$here/cfdcase.py" progress "$case_dir"), $((t1 - t0)) s"
   touch "$case_dir/.solved"
 }
@@ -145,7 +146,8 @@ run_case() {
     run_tool snappyHexMesh snappyHexMesh -overwrite || return 1
     run_tool checkMesh checkMesh || return 1
     echo "$tag: $("$py" "$here/cfdcase.py" fields "$name" "$case_dir")" || return 1
-    echo "$tag: meshed in $(( $(date +%s) - t0 )) s"
+    echo "$(( $(date +%s) - t0 ))" > "$case_dir/mesh_time_s"
+    echo "$tag: meshed in $(cat "$case_dir/mesh_time_s") s"
     touch "$case_dir/.meshed"
   fi
   if [ ! -f "$case_dir/.solved" ]; then
