@@ -33,7 +33,7 @@ packages=(
 )
 if [ "$cfd" = 1 ]; then
   # CFD of the jet: OpenFOAM (with Open MPI) and Debian's Python with numpy for post-processing
-  packages+=(openfoam python3 python3-numpy)
+  packages+=(openfoam python3 python3-numpy python3-matplotlib)
 fi
 
 missing=()
