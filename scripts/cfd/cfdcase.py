@@ -692,9 +692,11 @@ def git_commit_of(path):
     try:
         top = subprocess.run(["git", "-C", path, "rev-parse", "--show-toplevel"], capture_output=True,
                              text=True, check=True).stdout.strip()
-        h = subprocess.run(["git", "-C", top, "log", "-1", "--format=%H", "--", "scripts/cfd"],
+        # the generator proper: the case writer and the runner (not the analysis or benchmark scripts)
+        gen = ["scripts/cfd/cfdcase.py", "scripts/cfd/run_all.sh"]
+        h = subprocess.run(["git", "-C", top, "log", "-1", "--format=%H", "--"] + gen,
                            capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", top, "status", "--porcelain", "--", "scripts/cfd"],
+        dirty = subprocess.run(["git", "-C", top, "status", "--porcelain", "--untracked-files=no", "--"] + gen,
                                capture_output=True, text=True, check=True).stdout.strip()
         return h + ("-modified" if dirty else "") if h else "uncommitted"
     except (subprocess.CalledProcessError, FileNotFoundError):
