@@ -61,14 +61,14 @@ void run_calibrate(CalibrateArgs a) {
         std::fprintf(stderr,
                      "calibrate-dynamics: round %d/%d: physics (%.3f, %.3f, %.3f) -> identified "
                      "(%.3f, %.3f, %.3f), R^2 %.3f, MAPE %.1f%%\n",
-                     round, rounds, s.physics.xi1, s.physics.xi2, s.physics.xi3,
-                     s.identified.xi1, s.identified.xi2, s.identified.xi3, s.r2,
-                     s.end_position_mape_pct);
+                     round, rounds, s.physics.xi1, s.physics.xi2, s.physics.xi3, s.identified.xi1,
+                     s.identified.xi2, s.identified.xi3, s.r2, s.end_position_mape_pct);
       });
 
   nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
-  std::printf("round  physics (x1, x2, x3)            identified (xi1, xi2, xi3)      R^2    "
-              "MAPE   worst\n");
+  std::printf(
+      "round  physics (x1, x2, x3)            identified (xi1, xi2, xi3)      R^2    "
+      "MAPE   worst\n");
   for (size_t i = 0; i < c.history.size(); ++i) {
     const DynamicsCalibrationStep& s = c.history[i];
     std::printf("%5zu  (%7.3f, %6.3f, %7.3f)   (%7.3f, %6.3f, %7.3f)   %.3f  %5.1f%%  %5.1f%%\n",
@@ -101,12 +101,14 @@ void run_calibrate(CalibrateArgs a) {
       {"skip_transient_s", o.identification.pairs.transient_s},
       {"seed", o.collection.seed},
       {"rounds", rounds},
-      {"stopped", c.stopped.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.stopped)}};
+      {"stopped",
+       c.stopped.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.stopped)}};
   write_text_file(a.out, j.dump(2) + "\n");
-  std::printf("best physics (%.4f, %.4f, %.4f): drag rate %.4f 1/s, air gain %.4f, mu_k %.4f; "
-              "written to %s\n",
-              c.physics.xi1, c.physics.xi2, c.physics.xi3, p.drag_rate_per_s, p.air_gain,
-              p.kinetic_friction, a.out.c_str());
+  std::printf(
+      "best physics (%.4f, %.4f, %.4f): drag rate %.4f 1/s, air gain %.4f, mu_k %.4f; "
+      "written to %s\n",
+      c.physics.xi1, c.physics.xi2, c.physics.xi3, p.drag_rate_per_s, p.air_gain,
+      p.kinetic_friction, a.out.c_str());
 }
 
 }  // namespace
@@ -128,7 +130,8 @@ void add_calibrate_dynamics_command(CLI::App& app) {
   sub->add_option("--iterations", o.iterations, "Rounds")->capture_default_str();
   sub->add_option("--seed", o.collection.seed, "Seed of every round's collection")
       ->capture_default_str();
-  o.collection.threads = 0;  // every core by default: the result does not depend on the thread count
+  o.collection.threads =
+      0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.collection.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();
   sub->add_option("--skip-transient", o.identification.pairs.transient_s,

@@ -42,14 +42,14 @@ void run_collect(CollectArgs a) {
   const int total = static_cast<int>(o.tilts_rad.size()) * o.per_tilt;
   std::unique_ptr<Progress> progress;
   if (!a.quiet) progress = std::make_unique<Progress>("collect", "trials", total);
-  const TrajectorySet set =
-      run_collection(o, field, [&](int done, int) {
-        if (progress) progress->update(done);
-      });
+  const TrajectorySet set = run_collection(o, field, [&](int done, int) {
+    if (progress) progress->update(done);
+  });
   if (progress) progress->finish();
   write_text_file(a.out, trajectory_csv(set));
   std::string effect_list;
-  for (const Effect& e : effects) effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
+  for (const Effect& e : effects)
+    effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
   std::printf("collected %d %s trajectories (%d per tilt, seed %llu%s%s) into %s\n", total,
               o.object.c_str(), o.per_tilt, static_cast<unsigned long long>(o.seed),
               effects.empty() ? "" : ", effects ", effect_list.c_str(), a.out.c_str());
@@ -76,9 +76,10 @@ void add_collect_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--record", o.record_s, "Seconds recorded after the re-aim")
       ->capture_default_str();
-  sub->add_option("--lead-in", o.lead_in_s,
-                  "Seconds recorded before the re-aim, at the idle command (t < 0): the data then\n"
-                  "show the command change, which 'airtwin discrepancy' needs to tell a response delay")
+  sub->add_option(
+         "--lead-in", o.lead_in_s,
+         "Seconds recorded before the re-aim, at the idle command (t < 0): the data then\n"
+         "show the command change, which 'airtwin discrepancy' needs to tell a response delay")
       ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
@@ -88,7 +89,8 @@ void add_collect_command(CLI::App& app) {
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "
-                  "NAME:key=value,...; repeatable. Effects:\n" + effect_catalogue());
+                  "NAME:key=value,...; repeatable. Effects:\n" +
+                      effect_catalogue());
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run_collect(*args); });
 }

@@ -13,12 +13,12 @@ void add_maketable_command(CLI::App& app);  // construct the default table from 
 void add_identify_command(CLI::App& app);   // section IV: SINDy on trajectories -> model.json
 void add_collect_command(CLI::App& app);    // Appendix D protocol in the twin -> trajectory CSV
 void add_calibrate_dynamics_command(CLI::App& app);  // tune twin drag/friction to eq. (8)
-void add_run_command(CLI::App& app);  // section V: a scenario in closed loop in the twin
+void add_run_command(CLI::App& app);          // section V: a scenario in closed loop in the twin
 void add_batch_command(CLI::App& app);        // scenarios x seeds in parallel, resumable, shards
 void add_batch_merge_command(CLI::App& app);  // the shards of a batch -> one report
-void add_render_command(CLI::App& app);  // synthetic camera dataset of a scenario: frames, truth
+void add_render_command(CLI::App& app);     // synthetic camera dataset of a scenario: frames, truth
 void add_calibrate_command(CLI::App& app);  // camera model from calibration-target frames
-void add_detect_command(CLI::App& app);  // detection + tracking on frames -> detections.csv
+void add_detect_command(CLI::App& app);     // detection + tracking on frames -> detections.csv
 void add_discrepancy_command(CLI::App& app);  // model vs data: causes, extended model, gain
 
 }  // namespace airtwin::cli

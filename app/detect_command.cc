@@ -54,7 +54,8 @@ std::optional<double> sidecar_fps(const std::string& video) {
   if (!j.contains("camera_rate_hz") || !j["camera_rate_hz"].is_number() || !j.contains("stride") ||
       !j["stride"].is_number_integer() || !(j["camera_rate_hz"].get<double>() > 0) ||
       j["stride"].get<int>() < 1) {
-    throw InputError(path + ": a video sidecar needs camera_rate_hz > 0 and an integer stride >= 1");
+    throw InputError(path +
+                     ": a video sidecar needs camera_rate_hz > 0 and an integer stride >= 1");
   }
   return j["camera_rate_hz"].get<double>() / j["stride"].get<int>();
 }
@@ -154,9 +155,9 @@ void run_detect(const DetectArgs& a) {
       "detect: %lld frames (%s, %s), %lld detections, %lld tracks (%lld lost, %lld left the view, "
       "%zu at the end), %lld missed track-frames, %lld merges (track-frames hidden in another "
       "object's blob), %lld merged blobs split; wrote %s\n",
-      static_cast<long long>(frames), source.kind(), times,
-      static_cast<long long>(c.detections), static_cast<long long>(c.new_tracks),
-      static_cast<long long>(c.lost), static_cast<long long>(c.left_view), tracker.tracks().size(),
+      static_cast<long long>(frames), source.kind(), times, static_cast<long long>(c.detections),
+      static_cast<long long>(c.new_tracks), static_cast<long long>(c.lost),
+      static_cast<long long>(c.left_view), tracker.tracks().size(),
       static_cast<long long>(c.missed), static_cast<long long>(c.merged),
       static_cast<long long>(merged_blobs), a.out.c_str());
 }
@@ -186,8 +187,7 @@ void add_detect_command(CLI::App& app) {
   sub->add_option("--max-jump", args->max_jump_m,
                   "Farthest an object moves between frames (m): the tracker's gate")
       ->capture_default_str();
-  sub->add_option("--max-missed", args->max_missed,
-                  "Frames a track survives without a detection")
+  sub->add_option("--max-missed", args->max_missed, "Frames a track survives without a detection")
       ->capture_default_str();
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run_detect(*args); });

@@ -85,7 +85,8 @@ void run_identify(IdentifyArgs a) {
                 "a half window in [0, 50] samples");
   require_range(o.pairs.stationary_speed_mps, 0, 1, "--stationary-speed", "a speed in [0, 1] m/s");
   require_range(o.pairs.transient_s, 0, 60, "--skip-transient", "seconds in [0, 60]");
-  require_range(a.max_direction_error_deg, 1, 180, "--max-direction-error", "an angle in [1, 180] deg");
+  require_range(a.max_direction_error_deg, 1, 180, "--max-direction-error",
+                "an angle in [1, 180] deg");
   o.pairs.max_direction_error_rad = deg_to_rad(a.max_direction_error_deg);
   if (a.data.empty() == a.series.empty()) {
     throw UsageError("give either a trajectory CSV (positional FILE) or --series FILE, not " +

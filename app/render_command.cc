@@ -67,7 +67,6 @@ struct RenderArgs {
   bool quiet = false;
 };
 
-
 void make_dir(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

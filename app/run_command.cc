@@ -41,7 +41,8 @@ void run_run(const RunArgs& a) {
   options.seed = a.seed;
   std::unique_ptr<Progress> progress;
   const int limit = static_cast<int>(scenario.task.time_limit_s);
-  if (!a.quiet) progress = std::make_unique<Progress>("run " + scenario.name, "s", std::max(1, limit));
+  if (!a.quiet)
+    progress = std::make_unique<Progress>("run " + scenario.name, "s", std::max(1, limit));
   options.on_progress = [&](double t, double) {
     if (progress) progress->update(std::min(limit, static_cast<int>(t)));
   };
@@ -55,9 +56,8 @@ void run_run(const RunArgs& a) {
   std::unique_ptr<RunVideo> video;
   if (!a.video.empty()) {
     ensure_parent_dir(a.video);
-    video = std::make_unique<RunVideo>(a.video, scenario.task,
-                                       scenario.name + " seed " + std::to_string(a.seed),
-                                       a.video_stride);
+    video = std::make_unique<RunVideo>(
+        a.video, scenario.task, scenario.name + " seed " + std::to_string(a.seed), a.video_stride);
     options.on_frame = [&](const Twin& twin, int64_t frame,
                            const std::vector<DecisionRecord>& decisions) {
       video->on_frame(twin, frame, decisions);
@@ -76,11 +76,13 @@ void run_run(const RunArgs& a) {
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
   write_text_file(a.out + "/plans.csv", plans_csv(result));
 
-  std::printf("%s seed %llu: %s", scenario.name.c_str(),
-              static_cast<unsigned long long>(a.seed), result.success ? "success" : "FAILED");
+  std::printf("%s seed %llu: %s", scenario.name.c_str(), static_cast<unsigned long long>(a.seed),
+              result.success ? "success" : "FAILED");
   if (result.loop.success && !result.success) {
-    std::printf(" (the controller saw the task done; in the twin's truth only %d of %d are in"
-                " their zones)", result.objects_in_zone, result.n_objects);
+    std::printf(
+        " (the controller saw the task done; in the twin's truth only %d of %d are in"
+        " their zones)",
+        result.objects_in_zone, result.n_objects);
   }
   if (result.success && result.loop.completion_time_s) {
     std::printf(" in %.1f s", *result.loop.completion_time_s);

@@ -1,9 +1,9 @@
 #include "app/run_setup.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <filesystem>
 
 #include "app/cli_common.h"
 #include "common/errors.h"

@@ -53,9 +53,9 @@ void BM_CemDecision(benchmark::State& state, const std::string& name, bool exten
     types.push_back(o.type);
     xi.push_back(o.type == "tracer" ? kTracerDynamics : kCottonDynamics);
   }
-  const TaskProgress progress(resolve_sorting_stages(
-      sc.task, {{"tracer", kTracerDynamics.threshold_air_speed()},
-                {"cotton", kCottonDynamics.threshold_air_speed()}}));
+  const TaskProgress progress(
+      resolve_sorting_stages(sc.task, {{"tracer", kTracerDynamics.threshold_air_speed()},
+                                       {"cotton", kCottonDynamics.threshold_air_speed()}}));
   const std::vector<Eigen::Vector2d> r = progress.references(types);
   const CostShaping shaping = progress.cost_shaping(p, types);
   PlanningProblem problem;
@@ -90,8 +90,7 @@ BENCHMARK_CAPTURE(BM_CemDecision, sorting, std::string("sorting"), false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_scan, std::string("sorting"), false, true)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_transition, std::string("sorting"), false, false,
-                  true)
+BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_transition, std::string("sorting"), false, false, true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, octagon, std::string("octagon"), false)
     ->Unit(benchmark::kMillisecond);

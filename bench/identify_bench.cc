@@ -39,11 +39,10 @@ const TrajectorySet& data() {
       const NozzleOrientation o{pan(rng), deg_to_rad(i % 2 ? 22.5 : 0.0)};
       const OrientedField f = field().at(o);
       const double a = angle(rng);
-      const ObjectState start{f.stagnation_point() + radius(rng) * Eigen::Vector2d(std::cos(a),
-                                                                                 std::sin(a)),
-                              0.0};
-      const Prediction p = predictor.predict(f, std::span(&kTracerDynamics, 1),
-                                             std::span(&start, 1), po);
+      const ObjectState start{
+          f.stagnation_point() + radius(rng) * Eigen::Vector2d(std::cos(a), std::sin(a)), 0.0};
+      const Prediction p =
+          predictor.predict(f, std::span(&kTracerDynamics, 1), std::span(&start, 1), po);
       Trajectory tr;
       tr.id = std::to_string(i);
       tr.object = "tracer";

@@ -41,8 +41,10 @@ Sequence render_sequence(const RenderOptions& options) {
     const double jx = 0.05 * std::sin(1.7 * i + 0.3), jy = 0.05 * std::cos(2.3 * i + 1.1);
     std::string id = "o";
     id += std::to_string(i);
-    spec.objects.push_back({id, i % 3 == 1 ? "cotton" : "tracer",
-                            {0.26 * (i % 5 - 2) + jx, 0.26 * (i / 5 - 2) + jy}, 0.0});
+    spec.objects.push_back({id,
+                            i % 3 == 1 ? "cotton" : "tracer",
+                            {0.26 * (i % 5 - 2) + jx, 0.26 * (i / 5 - 2) + jy},
+                            0.0});
   }
   static const AirFieldModel field = AirFieldModel::with_default_table();
   TwinParameters params;

@@ -27,8 +27,8 @@ class RandomStream {
  public:
   /// The stream for (seed, purpose, index): different triples give unrelated sequences.
   RandomStream(uint64_t seed, RandomPurpose purpose, uint64_t index)
-      : engine_(mix(mix(seed) ^ mix(static_cast<uint64_t>(purpose) * 0x9E3779B97F4A7C15ull +
-                                    index))) {}
+      : engine_(
+            mix(mix(seed) ^ mix(static_cast<uint64_t>(purpose) * 0x9E3779B97F4A7C15ull + index))) {}
 
   /// Uniform in (0, 1], 53 random bits.
   double uniform() { return (static_cast<double>(engine_() >> 11) + 1.0) * 0x1.0p-53; }

@@ -236,9 +236,8 @@ struct Predictors {
 // eq. (10) for candidate s, with the predictor's scratch; the end positions land in
 // scratch.end_W.
 double evaluate(const AirFieldModel& model, const Predictors& predictors,
-                const CemParameters& params, const PlanningProblem& pr,
-                const Eigen::Vector2d& s_W, Scratch& scratch, NozzleOrientation* orientation,
-                bool* feasible) {
+                const CemParameters& params, const PlanningProblem& pr, const Eigen::Vector2d& s_W,
+                Scratch& scratch, NozzleOrientation* orientation, bool* feasible) {
   *feasible = false;
   const size_t m = pr.positions_W.size();
   if (!s_W.allFinite()) return params.penalty;
@@ -262,8 +261,8 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
   if (orientation != nullptr) *orientation = *aim.orientation;
   if (params.predict_transition && pr.nozzle_now) {
     if (!scratch.transit_ready) prepare_transit(model, predictors.fast, params, pr, scratch);
-    const double sweep_s = transition_schedule(params.transition, *pr.nozzle_now,
-                                               *aim.orientation, scratch.schedule);
+    const double sweep_s =
+        transition_schedule(params.transition, *pr.nozzle_now, *aim.orientation, scratch.schedule);
     PredictionOptions options;
     options.horizon_s = sweep_s + params.horizon_s;
     // No move, no transit to wait for: Delta T under the air now, from the decision on.
@@ -298,7 +297,7 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
 }
 
 Predictors predictors_of(const FastPredictor& fast, const std::optional<ExtendedPlanning>& ext,
-                        const std::optional<ExtendedPredictor>& ext_predictor) {
+                         const std::optional<ExtendedPredictor>& ext_predictor) {
   return Predictors{fast, ext ? &*ext : nullptr, ext_predictor ? &*ext_predictor : nullptr};
 }
 
@@ -310,8 +309,7 @@ double CemPlanner::cost(const PlanningProblem& problem, const Eigen::Vector2d& s
   const Predictors preds = predictors_of(predictor_, extended_, extended_predictor_);
   Scratch scratch;
   bool feasible = false;
-  const double j = evaluate(model_, preds, params_, problem, s_W, scratch, nullptr,
-                            &feasible);
+  const double j = evaluate(model_, preds, params_, problem, s_W, scratch, nullptr, &feasible);
   if (end_W != nullptr) {
     end_W->clear();
     if (feasible) {
@@ -334,7 +332,8 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   PlanResult result;
 
   // The search space. Line: s = p_a + x e with e the unit vector from the anchor's reference to
-  // the anchor (pushing "away from the reference point"), x ~ N(mu, Sigma). Plane: s ~ N(mu, Sigma).
+  // the anchor (pushing "away from the reference point"), x ~ N(mu, Sigma). Plane: s ~ N(mu,
+  // Sigma).
   size_t anchor = 0;
   Eigen::Vector2d e = Eigen::Vector2d::UnitX();
   if (p.search == CemSearch::kLine) {
@@ -449,8 +448,7 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
       const double w1 = p.search == CemSearch::kPlane ? rng.normal() : 0.0;
       z[i] = mu + Eigen::Vector2d(l00 * w0, l10 * w0 + l11 * w1);
       bool feasible = false;
-      costs[i] = evaluate(model_, preds, p, problem, to_point(z[i]), scratch, nullptr,
-                          &feasible);
+      costs[i] = evaluate(model_, preds, p, problem, to_point(z[i]), scratch, nullptr, &feasible);
       result.evaluations += feasible ? 1 : 0;
       if (costs[i] < best_cost) {
         best_cost = costs[i];
@@ -459,8 +457,7 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     }
     // The n* cheapest refit the Gaussian (ties keep sampling order: deterministic).
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return costs[a] < costs[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return costs[a] < costs[b]; });
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (int k = 0; k < n_elite; ++k) mean += z[order[k]];
     mean /= static_cast<double>(n_elite);

@@ -88,9 +88,9 @@ struct CemParameters {
   double mean0_m = 0.418;
   /// Initial variance (m^2): of the distance (line), of each axis (plane).
   double variance0_m2 = 20.9e-4;
-  int samples = 25;         ///< n
-  int elite = 3;            ///< n*
-  int max_iterations = 5;   ///< i_max
+  int samples = 25;        ///< n
+  int elite = 3;           ///< n*
+  int max_iterations = 5;  ///< i_max
   /// Sigma* (m^2): the variance (line) or the covariance's Frobenius norm (plane) below which
   /// the search has converged.
   double converged_variance_m2 = 0.3e-4;
@@ -126,8 +126,8 @@ struct PlanningProblem {
   /// Each object's current speed (m/s, >= 0) along its radial direction from the candidate s is
   /// taken as max(0, v_W . e_r): what carries over under eq. (9) when the orientation changes.
   std::span<const Eigen::Vector2d> velocities_W;
-  std::span<const ObjectDynamics> dynamics;      ///< eq. (8) coefficients per object
-  std::span<const Eigen::Vector2d> references_W; ///< r_j (m)
+  std::span<const ObjectDynamics> dynamics;       ///< eq. (8) coefficients per object
+  std::span<const Eigen::Vector2d> references_W;  ///< r_j (m)
   /// w_j, each finite and >= 0; empty: all 1 (eq. 10).
   std::span<const double> weights;
   /// R_j (m): how far from the point below the nozzle object j should end, > 0 or +infinity;
@@ -147,8 +147,8 @@ struct PlanResult {
   NozzleOrientation orientation;  ///< its nozzle orientation (eqs. 1-2 inverted)
   double cost = 0.0;              ///< eq. (10) at s*
   int iterations = 0;
-  int evaluations = 0;            ///< candidates predicted (J_P ones not counted)
-  bool converged = false;         ///< Sigma fell below Sigma*
+  int evaluations = 0;     ///< candidates predicted (J_P ones not counted)
+  bool converged = false;  ///< Sigma fell below Sigma*
   /// Predicted end positions at s* (m), per object.
   std::vector<Eigen::Vector2d> predicted_end_W;
 };

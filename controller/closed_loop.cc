@@ -68,8 +68,8 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   for (const auto& [id, o] : known_) {
     const auto it = dynamics_.find(o.type);
     if (it == dynamics_.end()) {
-      throw InputError("controller: no dynamics for object type '" + o.type + "' (object '" +
-                       id + "')");
+      throw InputError("controller: no dynamics for object type '" + o.type + "' (object '" + id +
+                       "')");
     }
     p.push_back(o.p_W);
     v.push_back(o.v_W);

@@ -26,13 +26,13 @@ namespace airtwin {
 
 /// What one decision did (for logs and the run summary).
 struct DecisionRecord {
-  double t_s = 0.0;             ///< rig time of the observation it used
-  size_t reference_index = 0;   ///< current path reference (0 for zone tasks)
+  double t_s = 0.0;            ///< rig time of the observation it used
+  size_t reference_index = 0;  ///< current path reference (0 for zone tasks)
   Eigen::Vector2d reference_W = Eigen::Vector2d::Zero();  ///< the anchor's reference (m)
   PlanResult plan;
-  double decision_ms = 0.0;     ///< wall-clock time of the CEM decision
-  int n_observed = 0;           ///< objects in the observation
-  int n_known = 0;              ///< objects planned for (observed or remembered)
+  double decision_ms = 0.0;  ///< wall-clock time of the CEM decision
+  int n_observed = 0;        ///< objects in the observation
+  int n_known = 0;           ///< objects planned for (observed or remembered)
   /// The objects planned for, in the order of plan.predicted_end_W: as perceived (a remembered
   /// one at its last position, at rest), and whether it was in this observation.
   std::vector<ObservedObject> objects;
@@ -47,8 +47,7 @@ class Controller {
   /// and knows each new command follows the previous one.
   Controller(const AirFieldModel& model, const CemParameters& cem, const TaskSpec& task,
              std::map<std::string, ObjectDynamics> dynamics_by_type, uint64_t seed,
-             double forget_after_s = 3.0,
-             std::optional<ExtendedPlanning> extended = std::nullopt);
+             double forget_after_s = 3.0, std::optional<ExtendedPlanning> extended = std::nullopt);
 
   /// Takes an observation: remembers the objects, updates the task; returns true when done.
   bool observe(const Observation& observation);

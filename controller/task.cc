@@ -197,8 +197,7 @@ bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
     }
     case TaskKind::kAggregation:
     case TaskKind::kSorting:
-      if (objects_in_zone(p_W, types) == static_cast<int>(p_W.size()) &&
-          all_in_view) {
+      if (objects_in_zone(p_W, types) == static_cast<int>(p_W.size()) && all_in_view) {
         done_time_s_ = t_s;
       }
       break;
@@ -206,8 +205,7 @@ bool TaskProgress::update(const std::vector<Eigen::Vector2d>& p_W,
   return done();
 }
 
-std::vector<Eigen::Vector2d> TaskProgress::references(
-    const std::vector<std::string>& types) const {
+std::vector<Eigen::Vector2d> TaskProgress::references(const std::vector<std::string>& types) const {
   std::vector<Eigen::Vector2d> out(types.size());
   for (size_t j = 0; j < types.size(); ++j) {
     switch (spec_.kind) {

@@ -21,7 +21,7 @@
 namespace airtwin {
 namespace {
 
-constexpr double kMinScale_m = 0.05;   // a window's error scale is at least 5 cm
+constexpr double kMinScale_m = 0.05;  // a window's error scale is at least 5 cm
 // Two models whose RMS path errors on a window differ by less than this (m) fit it equally well:
 // below half a camera pixel on the floor (2.64 mm/px, docs/vision.md).
 constexpr double kResolvedDifference_m = 0.001;
@@ -33,10 +33,10 @@ struct Window {
   const ObjectDynamics* xi = nullptr;
   const NozzleTimeline* timeline = nullptr;
   WindowStart start;
-  std::vector<double> times;                 // residual samples (absolute s)
-  std::vector<Eigen::Vector2d> measured;     // positions there
-  std::vector<double> since_change_s;        // since the command last changed
-  double path_m = 0.0;                       // measured path length
+  std::vector<double> times;              // residual samples (absolute s)
+  std::vector<Eigen::Vector2d> measured;  // positions there
+  std::vector<double> since_change_s;     // since the command last changed
+  double path_m = 0.0;                    // measured path length
   double scale_m = kMinScale_m;
   bool train = true;
   bool command_changes = false;  // the nominal field orientation changes inside the window
@@ -117,8 +117,8 @@ WindowSet make_windows(const TrajectorySet& set,
       }
       w.scale_m = std::max(kMinScale_m, w.path_m);
       // The field's orientation moves inside the window, or within a plausible lag before it.
-      w.command_changes = !timeline->at_rest_between(w.start.t_s - o.nozzle.transit_delay_s - 1.5,
-                                                     s[i1].t_s);
+      w.command_changes =
+          !timeline->at_rest_between(w.start.t_s - o.nozzle.transit_delay_s - 1.5, s[i1].t_s);
       ws.windows.push_back(std::move(w));
       i0 = i1;
     }
@@ -140,8 +140,8 @@ double robust_cost(double e) {
 
 // Per-window figures of one model.
 struct WindowScore {
-  double path_error = 0.0;  // RMS normalised position error
-  double end_pct = NAN;     // percent of the window's scale
+  double path_error = 0.0;          // RMS normalised position error
+  double end_pct = NAN;             // percent of the window's scale
   double predicted_travel_m = 0.0;  // predicted displacement over the window
 };
 
@@ -369,10 +369,14 @@ ModelExtensions apply_fit(const ModelExtensions& base, const std::vector<std::st
 // Levenberg-Marquardt over the training residuals, central differences in fit coordinates.
 struct FitFunctor : Eigen::DenseFunctor<double> {
   FitFunctor(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
-             const std::vector<std::string>& names, const std::vector<double>& steps,
-             int n_inputs, int n_values)
+             const std::vector<std::string>& names, const std::vector<double>& steps, int n_inputs,
+             int n_values)
       : Eigen::DenseFunctor<double>(n_inputs, n_values),
-        ev(ev), train(train), base(base), names(names), steps(steps) {}
+        ev(ev),
+        train(train),
+        base(base),
+        names(names),
+        steps(steps) {}
 
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     std::vector<WindowScore> scores;
@@ -481,7 +485,8 @@ FitResult fit_extensions(const Evaluator& ev, const std::vector<size_t>& train,
   }
   // The nuisance under the grid's best point.
   if (fit_nuisance) {
-    on.static_friction_ratio = fit_ordinary_stiction(ev, train, apply_fit(on, names, best_x.data()));
+    on.static_friction_ratio =
+        fit_ordinary_stiction(ev, train, apply_fit(on, names, best_x.data()));
     best.evaluations += kOrdinaryStictionGrid;
     best.sse = cost(best_x);
   }
@@ -491,8 +496,8 @@ FitResult fit_extensions(const Evaluator& ev, const std::vector<size_t>& train,
     const FitBox box = fit_box(name);
     for (size_t i = 0; i < box.lo.size(); ++i) steps.push_back((box.hi[i] - box.lo[i]) / 200.0);
   }
-  Eigen::VectorXd xv = Eigen::Map<const Eigen::VectorXd>(best_x.data(),
-                                                         static_cast<Eigen::Index>(best_x.size()));
+  Eigen::VectorXd xv =
+      Eigen::Map<const Eigen::VectorXd>(best_x.data(), static_cast<Eigen::Index>(best_x.size()));
   FitFunctor functor(ev, train, on, names, steps, static_cast<int>(xv.size()),
                      static_cast<int>(ev.residual_count(train)));
   Eigen::LevenbergMarquardt<FitFunctor> lm(functor);
@@ -551,8 +556,8 @@ void residual_structure(const Evaluator& ev, const WindowSet& ws, DiscrepancyRep
   for (const Window& w : ws.windows) {
     pred.predict(*w.xi, nominal, *w.timeline, w.start, w.times, &predicted);
     for (size_t k = 0; k < w.times.size(); ++k) {
-      const OrientedField f = pred.field().at(pred.field_orientation(nominal, *w.timeline,
-                                                                      w.times[k]));
+      const OrientedField f =
+          pred.field().at(pred.field_orientation(nominal, *w.timeline, w.times[k]));
       ResidualSample r;
       r.p_W = w.measured[k];
       const Eigen::Vector2d d = w.measured[k] - f.stagnation_point();
@@ -567,8 +572,8 @@ void residual_structure(const Evaluator& ev, const WindowSet& ws, DiscrepancyRep
       const double ta = k == 0 ? w.start.t_s : w.times[a];
       if (w.times[b] > ta) r.speed_mps = (w.measured[b] - pa).norm() / (w.times[b] - ta);
       const Eigen::Vector2d e = predicted[k] - w.measured[k];
-      const Eigen::Vector2d er = r.distance_m > 0.0 ? Eigen::Vector2d(d / r.distance_m)
-                                                    : Eigen::Vector2d(1.0, 0.0);
+      const Eigen::Vector2d er =
+          r.distance_m > 0.0 ? Eigen::Vector2d(d / r.distance_m) : Eigen::Vector2d(1.0, 0.0);
       r.radial_m = e.dot(er);
       r.tangential_m = e.dot(Eigen::Vector2d(-er.y(), er.x()));
       report->residuals.push_back(r);
@@ -689,8 +694,8 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
                            " are needed to tell a cause from chance; nothing is decided.");
   } else if (held.size() < o.min_heldout_windows) {
     report.decidable = false;
-    report.notes.push_back("Only " + std::to_string(held.size()) +
-                           " held-out windows: at least " + std::to_string(o.min_heldout_windows) +
+    report.notes.push_back("Only " + std::to_string(held.size()) + " held-out windows: at least " +
+                           std::to_string(o.min_heldout_windows) +
                            " are needed for the significance test; nothing is decided.");
   }
   bool any_change = false;
@@ -738,8 +743,8 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
       fit_names.push_back(name);
       const bool nuisance =
           std::find(fit_names.begin(), fit_names.end(), "stiction") == fit_names.end();
-      const FitResult fit = fit_extensions(ev, train, base, fit_names, current_x,
-                                           o.max_iterations, nuisance);
+      const FitResult fit =
+          fit_extensions(ev, train, base, fit_names, current_x, o.max_iterations, nuisance);
       CandidateResult c;
       c.name = name;
       c.params = extension_values(fit.ext, name);
@@ -890,8 +895,12 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   for (const auto& [name, list] : r.residual_bins) {
     Json arr = Json::array();
     for (const ResidualBin& b : list) {
-      arr.push_back({{"lo", b.lo}, {"hi", b.hi}, {"n", b.n}, {"radial_cm", num(b.radial_cm)},
-                     {"tangential_cm", num(b.tangential_cm)}, {"norm_cm", num(b.norm_cm)}});
+      arr.push_back({{"lo", b.lo},
+                     {"hi", b.hi},
+                     {"n", b.n},
+                     {"radial_cm", num(b.radial_cm)},
+                     {"tangential_cm", num(b.tangential_cm)},
+                     {"norm_cm", num(b.norm_cm)}});
     }
     bins[name] = arr;
   }
@@ -916,13 +925,15 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     md += fixed(t, 1);
   }
   md += " deg.\n\n## What is wrong\n\n";
-  md += "The nominal model (field table, eq. (8) coefficients, nozzle response) predicts the "
-        "held-out windows with an end-position MAPE of " +
-        fixed(r.baseline_end_mape, 1) + " % (all windows: " + fixed(r.baseline_end_mape_all, 1) +
-        " %); its path error is " + fixed(r.baseline_path_error_cm_mean, 1) + " cm on average, " +
-        fixed(r.baseline_path_error_cm_max, 1) + " cm at worst.\n\n";
-  md += "## Where\n\nMean residual (prediction minus measurement, cm) along the radial direction "
-        "from s and across it (counter-clockwise positive):\n\n";
+  md +=
+      "The nominal model (field table, eq. (8) coefficients, nozzle response) predicts the "
+      "held-out windows with an end-position MAPE of " +
+      fixed(r.baseline_end_mape, 1) + " % (all windows: " + fixed(r.baseline_end_mape_all, 1) +
+      " %); its path error is " + fixed(r.baseline_path_error_cm_mean, 1) + " cm on average, " +
+      fixed(r.baseline_path_error_cm_max, 1) + " cm at worst.\n\n";
+  md +=
+      "## Where\n\nMean residual (prediction minus measurement, cm) along the radial direction "
+      "from s and across it (counter-clockwise positive):\n\n";
   for (const auto& [name, bins] : r.residual_bins) {
     md += "| " + name + " | n | radial | across | length |\n|---|---|---|---|---|\n";
     for (const ResidualBin& b : bins) {
@@ -939,35 +950,38 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     for (const std::string& n : r.notes) md += "- " + n + "\n";
     return md;
   }
-  md += "Each candidate cause was fitted on the training windows and scored on the held-out ones "
-        "(a cause needs delta BIC <= -10, a Wilcoxon p below the Bonferroni level and at least a "
-        "15 % lower held-out path error)";
+  md +=
+      "Each candidate cause was fitted on the training windows and scored on the held-out ones "
+      "(a cause needs delta BIC <= -10, a Wilcoxon p below the Bonferroni level and at least a "
+      "15 % lower held-out path error)";
   if (std::isfinite(r.nuisance_static_friction_ratio)) {
     md += ", each on top of an ordinary static friction fitted with it (static / kinetic " +
           fixed(r.nuisance_static_friction_ratio, 3) +
           " here: a nuisance that eq. (8)'s start condition ignores, not a cause)";
   }
   md += ":\n\n";
-  md += "| candidate | parameters | held-out end MAPE % | path error gain % | delta BIC | p | cause? |\n"
-        "|---|---|---|---|---|---|---|\n";
+  md +=
+      "| candidate | parameters | held-out end MAPE % | path error gain % | delta BIC | p | cause? "
+      "|\n"
+      "|---|---|---|---|---|---|---|\n";
   for (const CandidateResult& c : r.candidates) {
     ModelExtensions e;
     set_extension_values(&e, c.name, c.params);
-    md += "| " + c.name + " | " + describe_extension(e, c.name).substr(c.name.size() + 2) +
-          " | " + fixed(c.heldout_end_mape, 1) + " | " + fixed(100.0 * c.gain, 1) + " | " +
+    md += "| " + c.name + " | " + describe_extension(e, c.name).substr(c.name.size() + 2) + " | " +
+          fixed(c.heldout_end_mape, 1) + " | " + fixed(100.0 * c.gain, 1) + " | " +
           fixed(c.delta_bic, 1) + " | " +
           (c.p_value < 1e-4 ? std::string("< 1e-4") : fixed(c.p_value, 4)) + " | " +
           (c.significant ? "yes" : "no") + " |\n";
   }
   md += "\n";
   if (r.found.empty()) {
-    md += "**None** of the candidates explains the discrepancy better than chance: what remains "
-          "is scatter (e.g. turbulence), not a missing cause.\n\n";
+    md +=
+        "**None** of the candidates explains the discrepancy better than chance: what remains "
+        "is scatter (e.g. turbulence), not a missing cause.\n\n";
   } else {
     md += "Found, in order:\n\n";
     for (const std::string& f : r.found) {
-      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_extension(f).cause +
-            ".\n";
+      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_extension(f).cause + ".\n";
     }
     md += "\n";
   }
@@ -983,8 +997,7 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     md += "extended_model.json adds the causes above. Held-out end-position MAPE: " +
           fixed(r.baseline_end_mape, 1) + " % -> " + fixed(r.extended_end_mape, 1) + " % (" +
           fixed(r.gain_pct, 1) + " % lower); held-out path error " +
-          fixed(r.baseline_path_error, 3) + " -> " + fixed(r.extended_path_error, 3) +
-          " scales.\n";
+          fixed(r.baseline_path_error, 3) + " -> " + fixed(r.extended_path_error, 3) + " scales.\n";
   }
   return md;
 }

@@ -12,9 +12,9 @@
 //    the position error over the window's frames, divided by the window's scale, its measured path
 //    length but at least 5 cm) and the end error in percent of that scale (so an object that
 //    stayed put while the model moved it 30 cm counts 600 %, and every model is scored on the same
-//    windows with the same denominators). Residuals are split into the component along the radial direction from
-//    s and across it, and binned against distance from s, alpha, time since the command changed,
-//    speed and floor position.
+//    windows with the same denominators). Residuals are split into the component along the radial
+//    direction from s and across it, and binned against distance from s, alpha, time since the
+//    command changed, speed and floor position.
 // 3. Diagnosis. The trajectories are split (seeded) into a training and a held-out part. Each
 //    extension of the catalogue (models/model_extensions.h) is fitted on the training windows by
 //    nonlinear least squares on the normalised position errors (a grid over its fit range, then
@@ -64,9 +64,9 @@ struct DiscrepancyOptions {
   double max_delta_bic = -10.0;   ///< a cause needs delta BIC at most this
   double min_gain = 0.15;         ///< and this relative reduction of the held-out path error
   int max_found = 3;
-  size_t min_windows = 20;          ///< fewer usable windows: nothing can be decided
-  size_t min_heldout_windows = 8;   ///< fewer held-out windows: nothing can be decided
-  int max_iterations = 40;          ///< Levenberg-Marquardt iterations per fit
+  size_t min_windows = 20;         ///< fewer usable windows: nothing can be decided
+  size_t min_heldout_windows = 8;  ///< fewer held-out windows: nothing can be decided
+  int max_iterations = 40;         ///< Levenberg-Marquardt iterations per fit
   double predictor_step_s = 1e-3;
   NozzleResponseParameters nozzle;  ///< the nominal response
   /// Called with one line per stage (progress for people); optional.
@@ -81,13 +81,13 @@ struct CandidateResult {
   std::string name;
   std::vector<double> params;  ///< typed, catalogue order
   double train_sse = 0.0;
-  double delta_bic = 0.0;             ///< training, against the round's base (negative: better)
-  double p_value = 1.0;               ///< held-out, one-sided Wilcoxon signed-rank
-  double heldout_path_error = 0.0;    ///< median normalised path error (1 = one scale)
-  double heldout_end_mape = 0.0;      ///< percent
-  double gain = 0.0;                  ///< 1 - held-out path error / the base's
-  double heldout_cost = 0.0;          ///< the robust cost over the held-out windows
-  bool relevant = false;              ///< larger than the extension's negligible size
+  double delta_bic = 0.0;           ///< training, against the round's base (negative: better)
+  double p_value = 1.0;             ///< held-out, one-sided Wilcoxon signed-rank
+  double heldout_path_error = 0.0;  ///< median normalised path error (1 = one scale)
+  double heldout_end_mape = 0.0;    ///< percent
+  double gain = 0.0;                ///< 1 - held-out path error / the base's
+  double heldout_cost = 0.0;        ///< the robust cost over the held-out windows
+  bool relevant = false;            ///< larger than the extension's negligible size
   bool significant = false;
   int fit_evaluations = 0;
 };
@@ -102,8 +102,8 @@ struct ResidualBin {
 
 /// One residual sample of the baseline (for plots and bins).
 struct ResidualSample {
-  double distance_m = 0.0;   ///< from the stagnation point the field follows
-  double alpha_deg = 0.0;    ///< direction from s, from downstream, in (-180, 180]
+  double distance_m = 0.0;      ///< from the stagnation point the field follows
+  double alpha_deg = 0.0;       ///< direction from s, from downstream, in (-180, 180]
   double since_change_s = 0.0;  ///< since the command last changed
   double speed_mps = 0.0;       ///< measured speed
   Eigen::Vector2d p_W = Eigen::Vector2d::Zero();
@@ -113,27 +113,27 @@ struct ResidualSample {
 struct DiscrepancyReport {
   std::string source;
   size_t n_trajectories = 0, n_windows = 0, n_train_windows = 0, n_heldout_windows = 0;
-  size_t n_mape_windows = 0;  ///< held-out windows in the MAPE
+  size_t n_mape_windows = 0;      ///< held-out windows in the MAPE
   std::vector<double> tilts_deg;  ///< distinct tilts seen
   bool decidable = false;
   std::vector<std::string> notes;  ///< what could not be decided and why
 
-  double baseline_end_mape = 0.0;       ///< held-out, percent
-  double baseline_end_mape_all = 0.0;   ///< every window, percent
-  double baseline_path_error = 0.0;     ///< held-out mean normalised path error
+  double baseline_end_mape = 0.0;      ///< held-out, percent
+  double baseline_end_mape_all = 0.0;  ///< every window, percent
+  double baseline_path_error = 0.0;    ///< held-out mean normalised path error
   double baseline_path_error_cm_mean = 0.0, baseline_path_error_cm_max = 0.0;  ///< every window
   std::vector<ResidualSample> residuals;
   std::map<std::string, std::vector<ResidualBin>> residual_bins;  ///< by quantity
 
-  std::vector<CandidateResult> candidates;  ///< round 1: each extension alone
+  std::vector<CandidateResult> candidates;           ///< round 1: each extension alone
   std::vector<std::vector<CandidateResult>> rounds;  ///< every round of the forward selection
-  std::vector<std::string> found;           ///< in the order they were added
-  ModelExtensions extensions;               ///< fitted jointly over the found causes
+  std::vector<std::string> found;                    ///< in the order they were added
+  ModelExtensions extensions;                        ///< fitted jointly over the found causes
   /// The ordinary static friction (static / kinetic, within 1 + negligible_size("stiction"))
   /// that the fits carry as a nuisance, as the causes found leave it (not a cause, not in
   /// `extensions`); NaN when stiction is a cause.
   double nuisance_static_friction_ratio = 1.0;
-  double extended_end_mape = 0.0;           ///< held-out, percent
+  double extended_end_mape = 0.0;  ///< held-out, percent
   double extended_path_error = 0.0;
   double gain_pct = 0.0;  ///< 100 (1 - extended / baseline) of the held-out end MAPE
 };

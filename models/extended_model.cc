@@ -64,8 +64,7 @@ ExtendedModel parse_extended_model_json(const std::string& text, const std::stri
     throw InputError(source + ": not JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {
-    throw InputError(source + ": not an extended model (expected \"format\": \"" + kFormat +
-                     "\")");
+    throw InputError(source + ": not an extended model (expected \"format\": \"" + kFormat + "\")");
   }
   if (!j.contains("version") || j["version"] != 1) {
     throw InputError(source + ": version: expected 1");

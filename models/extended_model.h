@@ -8,8 +8,8 @@
 // `airtwin run --model`:
 //   {"format": "airtwin-extended-model", "version": 1,
 //    "objects": {"tracer": {"xi1": .., "xi2": .., "xi3": ..}, ...},
-//    "nozzle_response": {"max_speed_radps": .., "max_acceleration_radps2": .., "transit_delay_s": ..},
-//    "extensions": {"field_scale": {"factor": 1.2}, ...},   (active ones only, typed units)
+//    "nozzle_response": {"max_speed_radps": .., "max_acceleration_radps2": .., "transit_delay_s":
+//    ..}, "extensions": {"field_scale": {"factor": 1.2}, ...},   (active ones only, typed units)
 //    "table": "", "source": "data.csv"}
 
 #include <map>

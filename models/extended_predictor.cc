@@ -41,18 +41,17 @@ struct Pull {
         ext(ext),
         cos_d(std::cos(ext.deflection_rad)),
         sin_d(std::sin(ext.deflection_rad)),
-        slope(kGravity * std::sin(ext.slope_rad) *
-              Eigen::Vector2d(std::cos(ext.slope_direction_rad),
-                              std::sin(ext.slope_direction_rad))),
+        slope(
+            kGravity * std::sin(ext.slope_rad) *
+            Eigen::Vector2d(std::cos(ext.slope_direction_rad), std::sin(ext.slope_direction_rad))),
         push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {}
 
   // The acceleration without friction at (p, v) in `field`.
   Eigen::Vector2d operator()(const OrientedField& field, const Eigen::Vector2d& p,
                              const Eigen::Vector2d& v) const {
     const Eigen::Vector2d u0 = field.velocity(p);
-    const Eigen::Vector2d u =
-        ext.field_scale *
-        Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(), sin_d * u0.x() + cos_d * u0.y());
+    const Eigen::Vector2d u = ext.field_scale * Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(),
+                                                                sin_d * u0.x() + cos_d * u0.y());
     Eigen::Vector2d a = xi.xi1 * v + xi.xi2 * u + slope;
     if (ext.quadratic_drag_per_m != 0.0) {
       const Eigen::Vector2d rel = u - v;
@@ -130,8 +129,9 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   for (size_t i = 0; i < times_s.size(); ++i) {
     if (!(std::isfinite(times_s[i]) && times_s[i] >= start.t_s &&
           (i == 0 || times_s[i] >= times_s[i - 1]))) {
-      throw InputError("extended predictor: sample times must be finite, ordered and not before "
-                       "the window's start");
+      throw InputError(
+          "extended predictor: sample times must be finite, ordered and not before "
+          "the window's start");
     }
   }
   positions->assign(times_s.size(), start.p_W);
@@ -163,8 +163,8 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   }
 }
 
-void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi,
-                                     const ModelExtensions& ext, const NozzleTimeline& timeline,
+void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const ModelExtensions& ext,
+                                     const NozzleTimeline& timeline,
                                      std::span<const WindowStart> starts, double t_end_s,
                                      std::span<Eigen::Vector2d> ends) const {
   ext.validate();
@@ -188,7 +188,8 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi,
   for (size_t j = 0; j < starts.size(); ++j) pulls.emplace_back(xi[j], ext);
   std::vector<Mover> objects;
   objects.reserve(starts.size());
-  for (size_t j = 0; j < starts.size(); ++j) objects.emplace_back(pulls[j], starts[j].p_W, starts[j].v_W);
+  for (size_t j = 0; j < starts.size(); ++j)
+    objects.emplace_back(pulls[j], starts[j].p_W, starts[j].v_W);
   std::vector<Eigen::Vector2d> p_old(starts.size());
 
   NozzleOrientation cached = field_orientation(ext, timeline, t0);

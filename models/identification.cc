@@ -47,8 +47,7 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
 }  // namespace
 
 IdentifiedModel identify_trajectories(const TrajectorySet& set, const std::string& object,
-                                      const AirFieldModel& field,
-                                      const IdentificationOptions& o) {
+                                      const AirFieldModel& field, const IdentificationOptions& o) {
   TrajectorySet selected;
   selected.has_group = set.has_group;
   for (const Trajectory& tr : set.trajectories)

@@ -183,9 +183,8 @@ IdentifiedModel parse_identified_model_json(const std::string& text, const std::
     bool ok = lib.is_array() && !lib.empty();
     std::vector<std::string> names;
     for (const auto& t : lib) {
-      if (!t.is_string() ||
-          std::find(kTermNames.begin(), kTermNames.end(), t.get<std::string>()) ==
-              kTermNames.end()) {
+      if (!t.is_string() || std::find(kTermNames.begin(), kTermNames.end(), t.get<std::string>()) ==
+                                kTermNames.end()) {
         ok = false;
         break;
       }

@@ -8,8 +8,8 @@
 // speed series has no positions), n_samples, n_dropped; then the details: eq8 ({xi1, xi2, xi3}
 // when only the terms 1, v, vair are active, else null), r2_change, end_position_mape_by_tilt,
 // n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories, n_glitches_repaired,
-// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, library, bootstraps, seed, smoothing_half_window, position_noise_m,
-// positions_smoothed, stationary_speed_mps, source.
+// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, library, bootstraps,
+// seed, smoothing_half_window, position_noise_m, positions_smoothed, stationary_speed_mps, source.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -50,7 +50,7 @@ struct IdentifiedModel {
   double position_noise_m = 0.0;      ///< estimated detection noise per axis (trajectory data)
   bool positions_smoothed = false;    ///< positions smoothed before differencing
   double stationary_speed_mps = 0.0;  ///< the rest threshold used
-  std::string source;  ///< the data file
+  std::string source;                 ///< the data file
 
   /// Whether only the terms of eq. (8) (1, v, vair) are active.
   bool is_eq8() const;

@@ -83,8 +83,8 @@ void set_extension_values(ModelExtensions* x, const std::string& name,
     if (!(std::isfinite(v[i]) && v[i] >= p.min && v[i] <= p.max)) {
       char range[96];
       std::snprintf(range, sizeof(range), "[%g, %g]", p.min, p.max);
-      throw InputError("extension " + name + "." + p.key + " must be a finite number in " +
-                       range + (p.unit[0] ? std::string(" ") + p.unit : std::string()));
+      throw InputError("extension " + name + "." + p.key + " must be a finite number in " + range +
+                       (p.unit[0] ? std::string(" ") + p.unit : std::string()));
     }
   }
   if (name == "pressure_gradient") {
@@ -132,7 +132,8 @@ double extension_size(const ModelExtensions& x, const std::string& name) {
   const std::vector<double> v = extension_values(x, name);
   if (name == "pressure_gradient" || name == "floor_slope") return std::abs(v[0]);
   double size = 0.0;
-  for (size_t i = 0; i < v.size(); ++i) size = std::max(size, std::abs(v[i] - spec.params[i].nominal));
+  for (size_t i = 0; i < v.size(); ++i)
+    size = std::max(size, std::abs(v[i] - spec.params[i].nominal));
   return size;
 }
 

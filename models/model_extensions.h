@@ -35,8 +35,8 @@ struct ModelExtensions {
   double extra_delay_s = 0.0;       ///< response_delay tau_s (>= 0)
   double deflection_rad = 0.0;      ///< flow_deflection
   double quadratic_drag_per_m = 0.0;
-  double slope_rad = 0.0;            ///< floor_slope angle
-  double slope_direction_rad = 0.0;  ///< floor_slope downhill direction
+  double slope_rad = 0.0;              ///< floor_slope angle
+  double slope_direction_rad = 0.0;    ///< floor_slope downhill direction
   double static_friction_ratio = 1.0;  ///< stiction (>= 1)
   double pan_offset_rad = 0.0;         ///< nozzle_offset
   double tilt_offset_rad = 0.0;
@@ -50,10 +50,10 @@ struct ModelExtensions {
 /// One parameter of an extension, in its typed unit.
 struct ExtensionParameter {
   const char* key;
-  const char* unit;      ///< "" when dimensionless
-  double nominal;        ///< the value that switches the extension off (or any, when another
-                         ///< parameter does: pressure_gradient.length, floor_slope.direction_deg)
-  double min, max;       ///< physical range (closed)
+  const char* unit;  ///< "" when dimensionless
+  double nominal;    ///< the value that switches the extension off (or any, when another
+                     ///< parameter does: pressure_gradient.length, floor_slope.direction_deg)
+  double min, max;   ///< physical range (closed)
   double fit_min, fit_max;  ///< where the analysis searches
 };
 

@@ -112,8 +112,8 @@ NozzleTimeline::NozzleTimeline(const NozzleResponseParameters& params,
       target = commands[next].command;
       ++next;
     }
-    servo_axis_step(target.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
-                    step_, &pan, &pan_rate);
+    servo_axis_step(target.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2, step_,
+                    &pan, &pan_rate);
     servo_axis_step(target.tilt_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
                     step_, &tilt, &tilt_rate);
     pan_[k] = pan;

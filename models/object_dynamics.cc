@@ -132,9 +132,7 @@ Ray ray_through(const OrientedField& field, const Eigen::Vector2d& p_W) {
   return ray_of(field, p_W);
 }
 
-Ray ray_through(const OrientedRays& rays, const Eigen::Vector2d& p_W) {
-  return ray_of(rays, p_W);
-}
+Ray ray_through(const OrientedRays& rays, const Eigen::Vector2d& p_W) { return ray_of(rays, p_W); }
 
 PlanarRate moving_rate(const OrientedField& field, const ObjectDynamics& xi,
                        const Eigen::Vector2d& p_W, double v) {

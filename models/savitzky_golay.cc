@@ -21,7 +21,8 @@ std::vector<double> savitzky_golay_weights(int length, int at, int order) {
       power *= j - at;
     }
   }
-  const Eigen::MatrixXd pinv = A.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(length, length));
+  const Eigen::MatrixXd pinv =
+      A.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(length, length));
   std::vector<double> w(length);
   for (int j = 0; j < length; ++j) w[j] = pinv(0, j);
   return w;

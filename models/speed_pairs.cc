@@ -170,7 +170,8 @@ SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFiel
     }
     repaired.push_back(tr.samples);
     if (o.repair_glitches) {
-      rep.n_glitches_repaired += repair_position_glitches(&repaired.back(), o.glitch_floor_m).size();
+      rep.n_glitches_repaired +=
+          repair_position_glitches(&repaired.back(), o.glitch_floor_m).size();
     }
   }
 
@@ -180,14 +181,15 @@ SpeedPairs speed_pairs_from_trajectories(const TrajectorySet& set, const AirFiel
   std::vector<double> d4;
   for (const auto& s : repaired) {
     for (size_t k = 2; k + 2 < s.size(); ++k) {
-      const Eigen::Vector2d d = s[k - 2].p_W - 4 * s[k - 1].p_W + 6 * s[k].p_W -
-                                4 * s[k + 1].p_W + s[k + 2].p_W;
+      const Eigen::Vector2d d =
+          s[k - 2].p_W - 4 * s[k - 1].p_W + 6 * s[k].p_W - 4 * s[k + 1].p_W + s[k + 2].p_W;
       d4.push_back(std::abs(d.x()));
       d4.push_back(std::abs(d.y()));
     }
   }
   rep.position_noise_m = d4.empty() ? 0.0 : 1.4826 * median_of(d4) / std::sqrt(70.0);
-  const bool denoise = o.smoothing_half_window > 0 && rep.position_noise_m > o.position_noise_floor_m;
+  const bool denoise =
+      o.smoothing_half_window > 0 && rep.position_noise_m > o.position_noise_floor_m;
   rep.positions_smoothed = denoise;
 
   // The speed noise (per axis) that remains after the differences below, and from it the speed

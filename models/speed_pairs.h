@@ -55,23 +55,23 @@ struct SpeedPairOptions {
   /// are not used: the servos are still turning and the field still sweeping toward the recorded
   /// command. 0 (the paper's preprocessing) uses everything; see docs/identification.md.
   double transient_s = 0.0;
-  int smoothing_half_window = 4;        ///< Savitzky-Golay half window (samples); 0: none
-  int smoothing_order = 3;              ///< Savitzky-Golay polynomial degree
+  int smoothing_half_window = 4;  ///< Savitzky-Golay half window (samples); 0: none
+  int smoothing_order = 3;        ///< Savitzky-Golay polynomial degree
 };
 
 struct SpeedPairReport {
   size_t n_trajectories = 0;
   size_t n_frames = 0;
-  size_t n_samples = 0;  ///< speed samples computed (interior frames)
-  size_t n_pairs = 0;    ///< pairs kept for regression
-  size_t n_dropped = 0;  ///< speed samples dropped as stationary (raw or after smoothing)
+  size_t n_samples = 0;     ///< speed samples computed (interior frames)
+  size_t n_pairs = 0;       ///< pairs kept for regression
+  size_t n_dropped = 0;     ///< speed samples dropped as stationary (raw or after smoothing)
   size_t n_off_radial = 0;  ///< moving samples dropped as not radial from s (step 4)
   size_t n_transient = 0;   ///< moving samples dropped as within transient_s of a command change
   size_t n_glitches_repaired = 0;
-  size_t n_short_trajectories = 0;  ///< fewer than 4 frames: no pair possible
-  double position_noise_m = 0.0;     ///< estimated detection noise (m, per axis; trajectories)
-  bool positions_smoothed = false;   ///< whether positions were smoothed before differencing
-  double stationary_speed_mps = 0.0; ///< the rest threshold used (option or 3.5 x speed noise)
+  size_t n_short_trajectories = 0;    ///< fewer than 4 frames: no pair possible
+  double position_noise_m = 0.0;      ///< estimated detection noise (m, per axis; trajectories)
+  bool positions_smoothed = false;    ///< whether positions were smoothed before differencing
+  double stationary_speed_mps = 0.0;  ///< the rest threshold used (option or 3.5 x speed noise)
 };
 
 /// Builds the regression pairs for trajectories of one object type. Throws InputError when the

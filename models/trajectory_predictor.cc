@@ -124,8 +124,8 @@ void TrajectoryPredictor::predict(const OrientedRays& rays,
                                   const PredictionOptions& options, Prediction& out) const {
   validate_options(options);
   const double t0 = 0.0;
-  run({}, std::span<const OrientedRays>(&rays, 1), std::span<const double>(&t0, 1), dynamics,
-      start, options, out);
+  run({}, std::span<const OrientedRays>(&rays, 1), std::span<const double>(&t0, 1), dynamics, start,
+      options, out);
 }
 
 Prediction TrajectoryPredictor::predict(const AirFieldModel& model,
@@ -157,8 +157,7 @@ Prediction TrajectoryPredictor::predict(const OrientedRays& rays,
 }
 
 void TrajectoryPredictor::run(std::span<const OrientedField> fields,
-                              std::span<const OrientedRays> rays,
-                              std::span<const double> starts_s,
+                              std::span<const OrientedRays> rays, std::span<const double> starts_s,
                               std::span<const ObjectDynamics> dynamics,
                               std::span<const ObjectState> start, const PredictionOptions& options,
                               Prediction& out) const {

@@ -131,9 +131,9 @@ class TrajectoryPredictor {
  private:
   // The segments' fields come from `fields` or, when it is empty, from `rays`.
   void run(std::span<const OrientedField> fields, std::span<const OrientedRays> rays,
-           std::span<const double> starts_s,
-           std::span<const ObjectDynamics> dynamics, std::span<const ObjectState> start,
-           const PredictionOptions& options, Prediction& out) const;
+           std::span<const double> starts_s, std::span<const ObjectDynamics> dynamics,
+           std::span<const ObjectState> start, const PredictionOptions& options,
+           Prediction& out) const;
 };
 
 }  // namespace airtwin

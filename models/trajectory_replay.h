@@ -32,7 +32,7 @@ struct ReplayOptions {
 
 struct ReplayedTrajectory {
   std::string id;
-  bool used = false;  ///< false: fewer than 3 samples or moved less than min_travel_m
+  bool used = false;              ///< false: fewer than 3 samples or moved less than min_travel_m
   bool constant_command = false;  ///< one nozzle command throughout
   double tilt_deg = 0.0;          ///< the first sample's tilt (deg, for grouping)
   Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< fitted start position

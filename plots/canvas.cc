@@ -1,8 +1,8 @@
 #include "plots/canvas.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
@@ -342,6 +342,5 @@ void write_png(const cv::Mat& img, const std::string& path) {
         path + ": write failed: " + std::strerror(written != bytes.size() ? write_errno : errno));
   }
 }
-
 
 }  // namespace airtwin::plots

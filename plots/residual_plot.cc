@@ -10,8 +10,8 @@
 namespace airtwin::plots {
 namespace {
 
-const cv::Scalar kRadial(200, 110, 30);      // blue: along the radial direction from s
-const cv::Scalar kTangential(40, 60, 220);   // red: across it
+const cv::Scalar kRadial(200, 110, 30);     // blue: along the radial direction from s
+const cv::Scalar kTangential(40, 60, 220);  // red: across it
 
 // Residuals (cm) against one quantity: every sample as a faint dot, the bins' means as lines.
 void scatter_panel(const DiscrepancyReport& r, const std::string& key, const std::string& x_label,
@@ -66,15 +66,19 @@ void scatter_panel(const DiscrepancyReport& r, const std::string& key, const std
 }  // namespace
 
 void write_residual_plots(const DiscrepancyReport& r, const std::string& dir) {
-  scatter_panel(r, "distance_from_s_m", "distance from s (m)",
-                [](const ResidualSample& s) { return s.distance_m; }, dir + "/residuals_distance.png");
-  scatter_panel(r, "alpha_deg", "alpha, direction from s (deg from downstream)",
-                [](const ResidualSample& s) { return s.alpha_deg; }, dir + "/residuals_alpha.png");
-  scatter_panel(r, "time_since_command_s", "time since the command changed (s)",
-                [](const ResidualSample& s) { return s.since_change_s; },
-                dir + "/residuals_time_since_command.png");
-  scatter_panel(r, "speed_mps", "measured speed (m/s)",
-                [](const ResidualSample& s) { return s.speed_mps; }, dir + "/residuals_speed.png");
+  scatter_panel(
+      r, "distance_from_s_m", "distance from s (m)",
+      [](const ResidualSample& s) { return s.distance_m; }, dir + "/residuals_distance.png");
+  scatter_panel(
+      r, "alpha_deg", "alpha, direction from s (deg from downstream)",
+      [](const ResidualSample& s) { return s.alpha_deg; }, dir + "/residuals_alpha.png");
+  scatter_panel(
+      r, "time_since_command_s", "time since the command changed (s)",
+      [](const ResidualSample& s) { return s.since_change_s; },
+      dir + "/residuals_time_since_command.png");
+  scatter_panel(
+      r, "speed_mps", "measured speed (m/s)", [](const ResidualSample& s) { return s.speed_mps; },
+      dir + "/residuals_speed.png");
 
   // The floor: each sample at its position, coloured by the length of its residual.
   cv::Mat img(700, 760, CV_8UC3, cv::Scalar(255, 255, 255));

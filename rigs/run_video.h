@@ -33,7 +33,8 @@ class RunVideo {
 
   /// One camera frame of the run; `decisions` so far (the last one's stagnation point and
   /// reference are drawn). The renderer is created on the first call, in the calling thread.
-  void on_frame(const Twin& twin, int64_t frame_index, const std::vector<DecisionRecord>& decisions);
+  void on_frame(const Twin& twin, int64_t frame_index,
+                const std::vector<DecisionRecord>& decisions);
 
   /// Flushes and finalises the file and its sidecar.
   VideoSummary close();

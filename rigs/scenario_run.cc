@@ -144,8 +144,8 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["seed"] = r.seed;
   j["success"] = r.success;
   j["completion_time_s"] = r.success && r.loop.completion_time_s
-                              ? ordered_json(*r.loop.completion_time_s)
-                              : ordered_json(nullptr);
+                               ? ordered_json(*r.loop.completion_time_s)
+                               : ordered_json(nullptr);
   if (r.path_error_m.count > 0) {
     j["path_error_cm"] = {{"mean", 100.0 * r.path_error_m.mean},
                           {"std", 100.0 * r.path_error_m.std},
@@ -165,11 +165,16 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["objects_seen_at_end"] = r.loop.objects_seen_at_end;
   if (r.perception == "vision") {
     const TrackerCounters& c = r.vision_counters;
-    j["vision"] = {{"frames", r.vision_frames},     {"frame_ms", r.vision_frame_ms},
-                   {"detections", c.detections},    {"tracks", c.new_tracks},
-                   {"missed", c.missed},            {"merged", c.merged},
-                   {"lost", c.lost},                {"left_view", c.left_view},
-                   {"entered_view", c.entered_view}, {"duplicates", r.vision_duplicates}};
+    j["vision"] = {{"frames", r.vision_frames},
+                   {"frame_ms", r.vision_frame_ms},
+                   {"detections", c.detections},
+                   {"tracks", c.new_tracks},
+                   {"missed", c.missed},
+                   {"merged", c.merged},
+                   {"lost", c.lost},
+                   {"left_view", c.left_view},
+                   {"entered_view", c.entered_view},
+                   {"duplicates", r.vision_duplicates}};
   }
   return j.dump(2) + "\n";
 }
@@ -182,9 +187,10 @@ std::string decisions_csv(const ScenarioRunResult& r) {
   for (const auto& d : r.loop.decisions) {
     std::snprintf(line, sizeof line, "%.6f,%zu,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%d,%.3f\n",
                   d.t_s, d.reference_index, d.reference_W.x(), d.reference_W.y(),
-                  d.plan.stagnation_W.x(), d.plan.stagnation_W.y(), rad_to_deg(d.plan.orientation.pan_rad),
-                  rad_to_deg(d.plan.orientation.tilt_rad), d.plan.cost, d.plan.iterations,
-                  d.plan.converged ? 1 : 0, d.n_observed, d.decision_ms);
+                  d.plan.stagnation_W.x(), d.plan.stagnation_W.y(),
+                  rad_to_deg(d.plan.orientation.pan_rad), rad_to_deg(d.plan.orientation.tilt_rad),
+                  d.plan.cost, d.plan.iterations, d.plan.converged ? 1 : 0, d.n_observed,
+                  d.decision_ms);
     out += line;
   }
   return out;

@@ -18,8 +18,8 @@
 #include "models/air_field.h"
 #include "models/object_dynamics.h"
 #include "models/trajectory_data.h"
-#include "scenes/scenario.h"
 #include "rigs/vision_perception.h"
+#include "scenes/scenario.h"
 #include "sim/twin.h"
 #include "vision/calibrated_camera.h"
 

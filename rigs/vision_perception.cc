@@ -43,7 +43,8 @@ struct VisionPerception::Impl {
       throw InputError("vision: the minimum separation of objects must be a number >= 0 (m)");
     }
     if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0.0 && std::fabs(k - std::round(k)) < 1e-9)) {
-      throw InputError("vision: the detection rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
+      throw InputError(
+          "vision: the detection rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
     }
     stride = static_cast<int>(std::lround(k));
   }

@@ -62,8 +62,8 @@ void AirForceParameters::validate() const {
         "flow_deflection_rad (expected [-pi/2, pi/2])", flow_deflection_rad);
   check(std::isfinite(quadratic_drag_per_m) && quadratic_drag_per_m >= 0,
         "quadratic_drag_per_m (expected >= 0)", quadratic_drag_per_m);
-  check(std::isfinite(extra_push_mps2) && extra_push_mps2 >= 0,
-        "extra_push_mps2 (expected >= 0)", extra_push_mps2);
+  check(std::isfinite(extra_push_mps2) && extra_push_mps2 >= 0, "extra_push_mps2 (expected >= 0)",
+        extra_push_mps2);
   check(std::isfinite(extra_push_length_m) && extra_push_length_m > 0,
         "extra_push_length_m (expected > 0)", extra_push_length_m);
 }

@@ -58,8 +58,8 @@
 
 #include <mujoco/mujoco.h>
 
-#include "models/air_field.h"
 #include "common/random_stream.h"
+#include "models/air_field.h"
 #include "sim/scene_builder.h"
 #include "sim/scene_spec.h"
 
@@ -71,19 +71,19 @@ struct AirForceParameters {
   /// a fluctuating intensity; 5 % of U_ref as the standard deviation of the forcing reproduces its
   /// repeatability (7.7 %) and end-position errors (9 %, 19.3 %) best (docs/twin.md, calibration).
   double turbulence_near = 0.05;
-  double turbulence_far = 0.015;            ///< intensity far from s
-  double turbulence_length_m = 0.15;        ///< L_t (m): where near turns into far
+  double turbulence_far = 0.015;                ///< intensity far from s
+  double turbulence_length_m = 0.15;            ///< L_t (m): where near turns into far
   double turbulence_reference_speed_mps = 3.4;  ///< U_ref (m/s)
-  double turbulence_time_s = 0.05;          ///< correlation time (s) of eta
-  double stagnation_pressure_pa = 11.0;     ///< p_s (Pa); 0 switches the push off
-  double pressure_radius_m = 0.06;          ///< b (m)
+  double turbulence_time_s = 0.05;              ///< correlation time (s) of eta
+  double stagnation_pressure_pa = 11.0;         ///< p_s (Pa); 0 switches the push off
+  double pressure_radius_m = 0.06;              ///< b (m)
 
   // Effects (sim/effects.h), neutral by default.
-  double field_scale = 1.0;                 ///< factor f on the air speed (> 0)
-  double flow_deflection_rad = 0.0;         ///< mean air velocity turned by this (rad, CCW +)
-  double quadratic_drag_per_m = 0.0;        ///< C_q (1/m): extra a = C_q |u_rel| u_rel
-  double extra_push_mps2 = 0.0;             ///< A (m/s^2): peak of the extra radial push
-  double extra_push_length_m = 0.15;        ///< l (m): its decay length (peak at l / sqrt(2))
+  double field_scale = 1.0;           ///< factor f on the air speed (> 0)
+  double flow_deflection_rad = 0.0;   ///< mean air velocity turned by this (rad, CCW +)
+  double quadratic_drag_per_m = 0.0;  ///< C_q (1/m): extra a = C_q |u_rel| u_rel
+  double extra_push_mps2 = 0.0;       ///< A (m/s^2): peak of the extra radial push
+  double extra_push_length_m = 0.15;  ///< l (m): its decay length (peak at l / sqrt(2))
 
   /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
   static AirForceParameters none();
@@ -129,8 +129,8 @@ class AirForces {
   };
   // How one body's force reaches qfrc_passive (bound to a model on the first apply()).
   struct BodyDofs {
-    int free_dof = -1;        // >= 0: translational dofs of a free joint anchored at the origin
-    std::vector<int> chain;   // otherwise: every dof from the body up to its root
+    int free_dof = -1;       // >= 0: translational dofs of a free joint anchored at the origin
+    std::vector<int> chain;  // otherwise: every dof from the body up to its root
   };
   void bind(const mjModel* m);
   void compute_forces(const mjModel* m, const mjData* d, bool air);

@@ -8,9 +8,9 @@
 
 #include "common/errors.h"
 #include "common/parallel_for.h"
+#include "common/random_stream.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
-#include "common/random_stream.h"
 
 namespace airtwin {
 

@@ -27,24 +27,24 @@
 namespace airtwin {
 
 struct CollectionOptions {
-  std::string object = "tracer";             ///< "tracer" | "cotton"
+  std::string object = "tracer";                               ///< "tracer" | "cotton"
   std::vector<double> tilts_rad = {0.0, 0.39269908169872414};  ///< 0 and 22.5 deg
-  int per_tilt = 50;                         ///< trials per tilt
+  int per_tilt = 50;                                           ///< trials per tilt
   std::uint64_t seed = 1;
-  double min_distance_m = 0.20;              ///< start distance from the trial's s
+  double min_distance_m = 0.20;  ///< start distance from the trial's s
   double max_distance_m = 0.58;
   /// Starts farther than this from the origin are redrawn (the camera sees +-1.35 m).
   double max_start_radius_m = 1.2;
   NozzleOrientation idle{-1.5707963267948966, 0.8726646259971648};  ///< pan -90, tilt 50 deg
-  double wait_s = 8.0;                       ///< jet on at idle before the re-aim (s)
-  double record_s = 2.0;                     ///< recording after the re-aim (s)
+  double wait_s = 8.0;    ///< jet on at idle before the re-aim (s)
+  double record_s = 2.0;  ///< recording after the re-aim (s)
   /// Recording before the re-aim (s, at most wait_s): frames at t < 0 with the idle command, so
   /// the data show the command change and the nozzle's travel (the discrepancy analysis needs
   /// it to tell a response delay; models/nozzle_response.h). 0: none, as Appendix D.
   double lead_in_s = 0.0;
   double frame_rate_hz = 40.0;
-  TwinParameters twin;                       ///< the twin's physics (effects applied here)
-  int threads = 1;                           ///< twins run in parallel (0: one per core)
+  TwinParameters twin;  ///< the twin's physics (effects applied here)
+  int threads = 1;      ///< twins run in parallel (0: one per core)
 
   /// Throws UsageError naming the option when a value is out of range.
   void validate() const;
@@ -53,9 +53,9 @@ struct CollectionOptions {
 /// One trial of the plan.
 struct CollectionTrial {
   int index = 0;
-  NozzleOrientation target;                       ///< the recorded orientation (rad)
+  NozzleOrientation target;                           ///< the recorded orientation (rad)
   Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< where the object is placed (m)
-  std::uint64_t twin_seed = 0;                    ///< turbulence and shape of this trial
+  std::uint64_t twin_seed = 0;                        ///< turbulence and shape of this trial
 };
 
 /// The trials: for each tilt in order, per_tilt trials with pan uniform in [-180, 180) deg and the

@@ -4,13 +4,14 @@
 #include <cmath>
 
 #include "common/errors.h"
-#include "common/units.h"
 #include "common/random_stream.h"
+#include "common/units.h"
 
 namespace airtwin {
 
 void set_physics(const ObjectDynamics& x, ObjectTypeParameters* p, double g) {
-  const ObjectTypeParameters q = ObjectTypeParameters::from_dynamics(x, p->diameter_m, p->mass_kg, g);
+  const ObjectTypeParameters q =
+      ObjectTypeParameters::from_dynamics(x, p->diameter_m, p->mass_kg, g);
   p->drag_rate_per_s = q.drag_rate_per_s;
   p->air_gain = q.air_gain;
   p->kinetic_friction = q.kinetic_friction;

@@ -45,8 +45,8 @@ void NozzleActuatorParameters::validate() const {
   }
 }
 
-void servo_step(double target, double max_speed, double max_acceleration, double dt,
-                double* angle, double* rate) {
+void servo_step(double target, double max_speed, double max_acceleration, double dt, double* angle,
+                double* rate) {
   const double error = target - *angle;
   const double distance = std::abs(error);
   // The fastest speed v from which the servo can still stop on the target after moving at v for
@@ -97,18 +97,18 @@ void NozzleActuator::command(const NozzleOrientation& target) {
   }
   commanded_ = target;
   // The servos' calibration bias: they turn to command + offset, within their ranges.
-  servo_target_.pan_rad = std::clamp(target.pan_rad + params_.pan_offset_rad, params_.pan_min_rad,
-                                     params_.pan_max_rad);
+  servo_target_.pan_rad =
+      std::clamp(target.pan_rad + params_.pan_offset_rad, params_.pan_min_rad, params_.pan_max_rad);
   servo_target_.tilt_rad = std::clamp(target.tilt_rad + params_.tilt_offset_rad,
                                       params_.tilt_min_rad, params_.tilt_max_rad);
 }
 
 void NozzleActuator::step() {
   // Servos.
-  servo_step(servo_target_.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
-             dt_, &actual_.pan_rad, &pan_rate_);
-  servo_step(servo_target_.tilt_rad, params_.max_speed_radps, params_.max_acceleration_radps2,
-             dt_, &actual_.tilt_rad, &tilt_rate_);
+  servo_step(servo_target_.pan_rad, params_.max_speed_radps, params_.max_acceleration_radps2, dt_,
+             &actual_.pan_rad, &pan_rate_);
+  servo_step(servo_target_.tilt_rad, params_.max_speed_radps, params_.max_acceleration_radps2, dt_,
+             &actual_.tilt_rad, &tilt_rate_);
   // Delay line: overwrite the oldest slot with the newest, the next slot is now the oldest.
   history_[head_] = actual_;
   head_ = (head_ + 1) % history_.size();

@@ -33,11 +33,11 @@
 namespace airtwin {
 
 struct NozzleActuatorParameters {
-  double max_speed_radps = 7.0;              ///< servo speed limit (rad/s), both axes
-  double max_acceleration_radps2 = 30.0;     ///< servo acceleration limit (rad/s^2)
-  double field_delay_s = 0.2;                ///< actual -> effective orientation delay (s)
+  double max_speed_radps = 7.0;                  ///< servo speed limit (rad/s), both axes
+  double max_acceleration_radps2 = 30.0;         ///< servo acceleration limit (rad/s^2)
+  double field_delay_s = 0.2;                    ///< actual -> effective orientation delay (s)
   double jet_rise_time_constant_s = 1.73717793;  ///< tau_on (s): 8 s / ln(100)
-  double jet_fall_time_constant_s = 0.3;     ///< tau_off (s)
+  double jet_fall_time_constant_s = 0.3;         ///< tau_off (s)
   double pan_min_rad = -3.14159265358979323846;
   double pan_max_rad = 3.14159265358979323846;
   double tilt_min_rad = 0.0;
@@ -101,7 +101,7 @@ class NozzleActuator {
 /// One servo axis over one step dt (s): moves `angle` (rad) and `rate` (rad/s) toward `target`
 /// under |rate| <= max_speed and |d rate / dt| <= max_acceleration, braking so as to stop on the
 /// target without overshoot. Exposed for tests.
-void servo_step(double target, double max_speed, double max_acceleration, double dt,
-                double* angle, double* rate);
+void servo_step(double target, double max_speed, double max_acceleration, double dt, double* angle,
+                double* rate);
 
 }  // namespace airtwin

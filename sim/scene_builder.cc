@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "common/errors.h"
-#include "common/units.h"
 #include "common/random_stream.h"
+#include "common/units.h"
 
 namespace airtwin {
 namespace {
@@ -148,7 +148,8 @@ std::string cotton_body(size_t i, const ObjectSpec& o, double yaw, const ObjectT
     << "    <geom type=\"sphere\" size=\"" << num(element_radius) << "\" mass=\""
     << num(p.mass_kg / elements) << "\" friction=\"" << num(p.kinetic_friction) << ' '
     << num(kCottonTorsionalFriction) << ' ' << num(kCottonRollingFriction)
-    << "\" condim=\"6\" contype=\"" << own_bit << "\" conaffinity=\"" << affinity << "\" rgba=\"0.95 0.95 0.92 1\" group=\"3\"/>\n"
+    << "\" condim=\"6\" contype=\"" << own_bit << "\" conaffinity=\"" << affinity
+    << "\" rgba=\"0.95 0.95 0.92 1\" group=\"3\"/>\n"
     << "    <joint kind=\"main\" stiffness=\"0.05\" damping=\"0.0005\"/>\n"
     << "    <skin rgba=\"0.95 0.95 0.92 1\" inflate=\"" << num(element_radius)
     << "\" subgrid=\"2\"/>\n"
@@ -201,7 +202,8 @@ CottonShape draw_cotton_shape(uint64_t seed, size_t index, double irregularity) 
   for (double& a : shape.axis) a = rng.uniform(1.0 - irregularity, 1.0 + irregularity);
   // A resting wad is flatter than it is wide.
   shape.axis[2] *= 0.6;
-  for (double& e : shape.element) e = rng.uniform(1.0 - 0.5 * irregularity, 1.0 + 0.5 * irregularity);
+  for (double& e : shape.element)
+    e = rng.uniform(1.0 - 0.5 * irregularity, 1.0 + 0.5 * irregularity);
   return shape;
 }
 
@@ -213,8 +215,7 @@ double heading(const ObjectSpec& o, uint64_t seed, size_t index) {
 
 // Reshapes cotton wad `obj` (already indexed) in the compiled model and sets its resting height and
 // area shares. Element rest positions are the element bodies' positions in the root frame.
-void shape_cotton(mjModel* m, SceneObject& obj, const CottonShape& shape,
-                  double element_radius) {
+void shape_cotton(mjModel* m, SceneObject& obj, const CottonShape& shape, double element_radius) {
   // The composite's central sphere is as big as the nominal wad and would turn it into a ball that
   // rolls: the surface elements carry all contacts.
   for (int g = m->body_geomadr[obj.root_body];
@@ -371,8 +372,8 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
     << "<asset>\n"
     << "  <texture name=\"floor_tex\" type=\"2d\" builtin=\"checker\" rgb1=\"0.34 0.36 0.39\""
     << " rgb2=\"0.30 0.32 0.35\" width=\"512\" height=\"512\"/>\n"
-    << "  <material name=\"floor_mat\" texture=\"floor_tex\" texrepeat=\"" << num(h * 2)
-    << ' ' << num(h * 2) << "\" reflectance=\"0\"/>\n"
+    << "  <material name=\"floor_mat\" texture=\"floor_tex\" texrepeat=\"" << num(h * 2) << ' '
+    << num(h * 2) << "\" reflectance=\"0\"/>\n"
     << "  <material name=\"rig_metal\" rgba=\"0.6 0.6 0.62 1\"/>\n"
     << "  <material name=\"rig_servo\" rgba=\"0.1 0.1 0.1 1\"/>\n"
     << "  <material name=\"rig_nozzle\" rgba=\"0.75 0.7 0.4 1\"/>\n"
@@ -392,7 +393,7 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
     const ObjectType type = parse_object_type(o.type, where_object(spec, i));
     const double yaw = heading(o, seed, i);
     s << (type == ObjectType::kTracer ? tracer_body(i, o, yaw, params.tracer)
-                                       : cotton_body(i, o, yaw, params.cotton));
+                                      : cotton_body(i, o, yaw, params.cotton));
   }
   s << "</worldbody>\n</mujoco>\n";
   return s.str();

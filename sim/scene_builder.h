@@ -36,12 +36,12 @@ namespace airtwin {
 struct SceneObject {
   std::string id;
   ObjectType type = ObjectType::kTracer;
-  int root_body = -1;             ///< the `obj<i>` body (carries the freejoint)
-  std::vector<int> bodies;        ///< every body of the object, root first
+  int root_body = -1;       ///< the `obj<i>` body (carries the freejoint)
+  std::vector<int> bodies;  ///< every body of the object, root first
   /// Per body: its share of the object's horizontally projected area (sums to 1). The air
   /// force, and the object's reported position, are split and weighted by it.
   std::vector<double> area_share;
-  double mass_kg = 0.0;           ///< total mass of the bodies, from the compiled model
+  double mass_kg = 0.0;  ///< total mass of the bodies, from the compiled model
 };
 
 /// A compiled scene.

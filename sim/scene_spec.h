@@ -79,8 +79,8 @@ struct ObjectTypeParameters {
   /// friction 1.2 x kinetic (foam on a smooth floor), pressure volume = the solid hemisphere.
   static ObjectTypeParameters tracer();
   /// Cotton wad, ~5 cm, 0.22 g (section IV-C), eq. (8) cotton coefficients, static friction
-  /// 1.3 x kinetic (fibres catch), pressure volume of a porous wad (a tenth of its envelope: air passes
-  /// through the fibres, so the pressure difference acts on little of it).
+  /// 1.3 x kinetic (fibres catch), pressure volume of a porous wad (a tenth of its envelope: air
+  /// passes through the fibres, so the pressure difference acts on little of it).
   static ObjectTypeParameters cotton();
 
   /// The eq. (8) coefficients these parameters reproduce on a flat floor (the inverse mapping).
@@ -99,16 +99,16 @@ struct SceneParameters {
   /// ignore a 3 deg slope's sideways pull. With the calibrated turbulence, identification on twin
   /// data finds eq. (8)'s structure at 1, 3 and 10 alike (docs/twin.md, calibration).
   double friction_impedance_ratio = 1.0;
-  double floor_half_size_m = 2.0;   ///< the floor plane spans [-h, h]^2 (m) around the origin
-  double nozzle_height_m = 1.43;    ///< h: tilt shaft and nozzle exit above the floor (m)
-  double camera_height_m = 3.2;     ///< top camera above the floor (m)
-  double camera_half_view_m = 1.35; ///< half the floor width the top camera sees (m)
+  double floor_half_size_m = 2.0;    ///< the floor plane spans [-h, h]^2 (m) around the origin
+  double nozzle_height_m = 1.43;     ///< h: tilt shaft and nozzle exit above the floor (m)
+  double camera_height_m = 3.2;      ///< top camera above the floor (m)
+  double camera_half_view_m = 1.35;  ///< half the floor width the top camera sees (m)
   /// A floor tilted by this (rad, the floor_slope effect; 0 = level). The world frame stays the
   /// floor's frame (camera, field, positions); gravity tilts instead, with in-plane part
   /// g sin(slope) toward floor_slope_direction_rad (from +x, counter-clockwise).
   double floor_slope_rad = 0.0;
   double floor_slope_direction_rad = 0.0;  ///< downhill direction in the floor plane (rad)
-  int camera_resolution_px = 1024;  ///< square offscreen image (px)
+  int camera_resolution_px = 1024;         ///< square offscreen image (px)
   ObjectTypeParameters tracer = ObjectTypeParameters::tracer();
   ObjectTypeParameters cotton = ObjectTypeParameters::cotton();
   /// Cotton shape: relative spread of the wad's per-axis extents and of each element's radius

@@ -76,13 +76,13 @@ class Twin {
   void set_jet(bool on);
   void settle_jet();
 
-  double time() const;                  ///< s, = step_count() * timestep()
+  double time() const;  ///< s, = step_count() * timestep()
   int64_t step_count() const;
-  double timestep() const;              ///< s
+  double timestep() const;  ///< s
   NozzleOrientation commanded_orientation() const;
   NozzleOrientation actual_orientation() const;
   NozzleOrientation effective_orientation() const;
-  double jet_level() const;             ///< air-speed scale in [0, 1]
+  double jet_level() const;  ///< air-speed scale in [0, 1]
   /// The field the air forces use now (effective orientation, not scaled by the jet level).
   const OrientedField& field() const;
 

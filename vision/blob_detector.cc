@@ -106,8 +106,8 @@ const std::vector<Blob>& BlobDetector::detect(const cv::Mat& frame, const cv::Ma
         }
       }
     }
-    b.touches_border = b.box.x == 0 || b.box.y == 0 || b.box.br().x == grey_.cols ||
-                       b.box.br().y == grey_.rows;
+    b.touches_border =
+        b.box.x == 0 || b.box.y == 0 || b.box.br().x == grey_.cols || b.box.br().y == grey_.rows;
 
     // Area, brightness-weighted centroid and second moments in one pass.
     double sw = 0, su = 0, sv = 0, count = 0;

@@ -43,15 +43,15 @@ struct BlobDetectorOptions {
 
 struct Blob {
   Eigen::Vector2d centroid_px = Eigen::Vector2d::Zero();  ///< brightness-weighted centre (u, v)
-  double area_px = 0.0;          ///< pixels above the threshold
-  double perimeter_px = 0.0;     ///< length of the outer contour
-  double circularity = 0.0;      ///< 4 pi area / perimeter^2 (~1 for a disc, less when lobed)
-  double elongation = 1.0;       ///< sqrt of the ratio of the second moments' eigenvalues (>= 1)
-  double peak_distance_px = 0.0; ///< largest distance from a blob pixel to the background
-  cv::Rect box;                  ///< bounding box (px)
-  cv::Mat mask;                  ///< CV_8UC1 of box's size: 255 on the blob's pixels, else 0
-  bool touches_border = false;   ///< reaches the image's edge: the object may be cut
-  bool touches_mask = false;     ///< has pixels in the ignore mask (e.g. under the nozzle rig)
+  double area_px = 0.0;                                   ///< pixels above the threshold
+  double perimeter_px = 0.0;                              ///< length of the outer contour
+  double circularity = 0.0;       ///< 4 pi area / perimeter^2 (~1 for a disc, less when lobed)
+  double elongation = 1.0;        ///< sqrt of the ratio of the second moments' eigenvalues (>= 1)
+  double peak_distance_px = 0.0;  ///< largest distance from a blob pixel to the background
+  cv::Rect box;                   ///< bounding box (px)
+  cv::Mat mask;                   ///< CV_8UC1 of box's size: 255 on the blob's pixels, else 0
+  bool touches_border = false;    ///< reaches the image's edge: the object may be cut
+  bool touches_mask = false;      ///< has pixels in the ignore mask (e.g. under the nozzle rig)
 };
 
 /// Reusable detector: keeps its scratch images between frames (no allocation per frame once the

@@ -55,7 +55,6 @@ cv::Mat to_mat(const Eigen::Matrix<double, Rows, Cols>& e) {
   return m;
 }
 
-
 }  // namespace
 
 std::optional<Eigen::Vector2d> CalibratedCamera::project(const Eigen::Vector3d& p_W) const {

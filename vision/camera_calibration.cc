@@ -41,7 +41,6 @@ std::string num(double x) {
   return buffer;
 }
 
-
 // Mean grey level of a small patch around `centre` (px), clipped to the image.
 double patch_mean(const cv::Mat& grey, const cv::Point2f& centre, int half) {
   const int u = static_cast<int>(std::lround(centre.x)),

@@ -25,8 +25,7 @@ void CircleDetectorOptions::validate() const {
   }
 }
 
-std::vector<DetectedCircle> detect_circles(const cv::Mat& frame,
-                                           const CircleDetectorOptions& o) {
+std::vector<DetectedCircle> detect_circles(const cv::Mat& frame, const CircleDetectorOptions& o) {
   o.validate();
   if (frame.empty()) throw InputError("circle detector: empty frame");
   cv::Mat grey;

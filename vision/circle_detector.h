@@ -20,12 +20,12 @@
 namespace airtwin {
 
 struct CircleDetectorOptions {
-  double min_radius_px = 3.0;       ///< smallest tracer radius in the image
-  double max_radius_px = 6.0;       ///< largest
-  double min_distance_px = 8.0;     ///< between two centres (touching 3 cm tracers: ~11 px)
-  double edge_threshold = 100.0;    ///< Canny's upper threshold (HOUGH_GRADIENT param1)
+  double min_radius_px = 3.0;           ///< smallest tracer radius in the image
+  double max_radius_px = 6.0;           ///< largest
+  double min_distance_px = 8.0;         ///< between two centres (touching 3 cm tracers: ~11 px)
+  double edge_threshold = 100.0;        ///< Canny's upper threshold (HOUGH_GRADIENT param1)
   double accumulator_threshold = 12.0;  ///< votes a centre needs (param2); lower finds more
-  int bright_threshold = 170;       ///< grey level above which a pixel belongs to a tracer
+  int bright_threshold = 170;           ///< grey level above which a pixel belongs to a tracer
 
   /// Throws InputError naming the field when a value is not finite or out of order.
   void validate() const;

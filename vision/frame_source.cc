@@ -101,7 +101,8 @@ FrameSource& FrameSource::operator=(FrameSource&&) noexcept = default;
 
 FrameSource FrameSource::open(const std::string& path, const FrameSourceOptions& options) {
   if (!(std::isfinite(options.fps) && options.fps > 0)) {
-    throw InputError("frame source: fps must be finite and > 0, got " + std::to_string(options.fps));
+    throw InputError("frame source: fps must be finite and > 0, got " +
+                     std::to_string(options.fps));
   }
   auto impl = std::make_unique<Impl>();
   impl->path = path;

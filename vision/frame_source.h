@@ -28,10 +28,10 @@ struct FrameSourceOptions {
 };
 
 struct Frame {
-  int64_t index = 0;   ///< 0-based position in the source
-  double t_s = 0.0;    ///< time (s)
-  std::string name;    ///< file name (folder) or "frame <index>" (video)
-  cv::Mat bgr;         ///< CV_8UC3 image
+  int64_t index = 0;  ///< 0-based position in the source
+  double t_s = 0.0;   ///< time (s)
+  std::string name;   ///< file name (folder) or "frame <index>" (video)
+  cv::Mat bgr;        ///< CV_8UC3 image
 };
 
 class FrameSource {

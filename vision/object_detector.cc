@@ -57,8 +57,9 @@ ObjectDetector::ObjectDetector(const CalibratedCamera& camera, const ObjectDetec
     const auto edge = camera_.project(c_W + Eigen::Vector3d(options_.rig_mask_radius_m, 0, 0));
     if (centre && edge) {
       rig_mask_ = cv::Mat::zeros(camera_.height_px, camera_.width_px, CV_8UC1);
-      cv::circle(rig_mask_, cv::Point(static_cast<int>(std::lround(centre->x())),
-                                      static_cast<int>(std::lround(centre->y()))),
+      cv::circle(rig_mask_,
+                 cv::Point(static_cast<int>(std::lround(centre->x())),
+                           static_cast<int>(std::lround(centre->y()))),
                  static_cast<int>(std::ceil((*edge - *centre).norm())), cv::Scalar(255),
                  cv::FILLED);
     }
@@ -144,8 +145,10 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
     });
     for (const DetectedCircle& c : circles) {
       const Eigen::Vector2d uv = c.centre_px + Eigen::Vector2d(around.x, around.y);
-      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-      if (!blob.box.contains({u, v}) || !blob.mask.at<unsigned char>(v - blob.box.y, u - blob.box.x)) {
+      const int u = static_cast<int>(std::lround(uv.x())),
+                v = static_cast<int>(std::lround(uv.y()));
+      if (!blob.box.contains({u, v}) ||
+          !blob.mask.at<unsigned char>(v - blob.box.y, u - blob.box.x)) {
         continue;
       }
       const double d = depth_at(uv);
@@ -157,8 +160,9 @@ std::vector<ObjectDetector::Seed> ObjectDetector::seeds_of(const Blob& blob,
     }
   }
   auto take_disc = [&](const Eigen::Vector2d& uv, double radius) {
-    cv::circle(remaining_, cv::Point(static_cast<int>(std::lround(uv.x())) - box.x,
-                                     static_cast<int>(std::lround(uv.y())) - box.y),
+    cv::circle(remaining_,
+               cv::Point(static_cast<int>(std::lround(uv.x())) - box.x,
+                         static_cast<int>(std::lround(uv.y())) - box.y),
                static_cast<int>(std::ceil(radius)), cv::Scalar(0), cv::FILLED);
   };
   for (const Seed& s : seeds) take_disc(s.centre_px, r_t + 1.0);
@@ -213,8 +217,8 @@ void ObjectDetector::refine(const Blob& blob, const LocalScale& scale, std::vect
   const size_t n = seeds.size();
   std::vector<double> inv_radius(n);
   for (size_t k = 0; k < n; ++k) {
-    inv_radius[k] =
-        1.0 / (seeds[k].kind == ObjectKind::kTracer ? scale.tracer_radius_px : scale.cotton_radius_px);
+    inv_radius[k] = 1.0 / (seeds[k].kind == ObjectKind::kTracer ? scale.tracer_radius_px
+                                                                : scale.cotton_radius_px);
   }
   std::vector<Eigen::Vector3d> sums(n);
   for (int iteration = 0; iteration < 4; ++iteration) {

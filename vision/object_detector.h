@@ -23,7 +23,8 @@
 //     Thin or small shapes (noise, the rig's edges) hold no seed and are nothing.
 //  3. World positions: the pixel centre back-projected to the plane at the type's visible height
 //     (the centroid of a tracer's bright cap is the projection of a point ~5 mm up, a wad's ~16 mm;
-//     measured on the twin's renders, docs/vision.md), of which x, y is the object's floor position.
+//     measured on the twin's renders, docs/vision.md), of which x, y is the object's floor
+//     position.
 // Sizes are given in metres and converted to pixels with the camera's local scale, so the same
 // options serve another camera height or resolution.
 
@@ -74,19 +75,19 @@ struct Detection {
   ObjectKind kind = ObjectKind::kTracer;
   Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();  ///< (u, v) in the frame (px)
   Eigen::Vector2d p_W = Eigen::Vector2d::Zero();        ///< floor position (m), world frame
-  double area_px = 0.0;       ///< the object's pixels (its share of a merged blob)
-  int blob = -1;              ///< index of its blob in ObjectDetector::blobs()
-  int objects_in_blob = 1;    ///< > 1: split from a blob of touching objects
-  bool at_border = false;     ///< its blob touches the image's edge (may be cut, centre biased)
+  double area_px = 0.0;     ///< the object's pixels (its share of a merged blob)
+  int blob = -1;            ///< index of its blob in ObjectDetector::blobs()
+  int objects_in_blob = 1;  ///< > 1: split from a blob of touching objects
+  bool at_border = false;   ///< its blob touches the image's edge (may be cut, centre biased)
 };
 
 /// Per-frame summary of what the detector saw.
 struct DetectionStats {
-  int blobs = 0;          ///< bright blobs found (rig included)
-  int masked_blobs = 0;   ///< dropped: reaching under the rig
-  int empty_blobs = 0;    ///< held no object (noise, thin edges)
-  int merged_blobs = 0;   ///< held more than one object
-  int unplaced = 0;       ///< objects whose pixel the camera could not take to the floor
+  int blobs = 0;         ///< bright blobs found (rig included)
+  int masked_blobs = 0;  ///< dropped: reaching under the rig
+  int empty_blobs = 0;   ///< held no object (noise, thin edges)
+  int merged_blobs = 0;  ///< held more than one object
+  int unplaced = 0;      ///< objects whose pixel the camera could not take to the floor
 };
 
 /// Reusable detector (scratch images kept between frames). One per thread.

@@ -63,19 +63,19 @@ struct TrackerOptions {
 };
 
 struct Track {
-  int id = 0;                                        ///< 1, 2, ... in order of creation
-  ObjectKind kind = ObjectKind::kTracer;             ///< majority of its detections
+  int id = 0;                             ///< 1, 2, ... in order of creation
+  ObjectKind kind = ObjectKind::kTracer;  ///< majority of its detections
   /// Position (m): the last detection's; in a merge (another track holds the detection of the
   /// blob it is hidden in), the prediction.
   Eigen::Vector2d p_W = Eigen::Vector2d::Zero();
-  Eigen::Vector2d v_W = Eigen::Vector2d::Zero();     ///< velocity estimate (m/s)
+  Eigen::Vector2d v_W = Eigen::Vector2d::Zero();        ///< velocity estimate (m/s)
   Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();  ///< last detected pixel centre
   Eigen::Vector2d v_px = Eigen::Vector2d::Zero();       ///< pixel velocity (px/s), same fit
-  double t_last_s = 0.0;     ///< time of the last detection (s)
-  double t_first_s = 0.0;    ///< time of the first detection (s)
-  int hits = 0;              ///< frames with a detection
-  int missed_frames = 0;     ///< consecutive frames without one (0: detected in the last frame)
-  int detection = -1;        ///< index of its detection in the last update, -1 when missed
+  double t_last_s = 0.0;                                ///< time of the last detection (s)
+  double t_first_s = 0.0;                               ///< time of the first detection (s)
+  int hits = 0;                                         ///< frames with a detection
+  int missed_frames = 0;  ///< consecutive frames without one (0: detected in the last frame)
+  int detection = -1;     ///< index of its detection in the last update, -1 when missed
   std::array<int, 2> kind_votes{0, 0};  ///< detections per kind (tracer, cotton)
 
   /// Position predicted at time t_s (m): constant velocity from the last detection.
@@ -86,12 +86,12 @@ struct Track {
 struct TrackerCounters {
   int64_t frames = 0;
   int64_t detections = 0;
-  int64_t new_tracks = 0;     ///< tracks started
-  int64_t missed = 0;         ///< track-frames without a detection (merged ones included)
-  int64_t merged = 0;         ///< of those, the track was beside another track's detection
-  int64_t lost = 0;           ///< tracks ended after max_missed_frames
-  int64_t left_view = 0;      ///< tracks ended at the image's edge
-  int64_t entered_view = 0;   ///< tracks started at the image's edge after the first frame
+  int64_t new_tracks = 0;    ///< tracks started
+  int64_t missed = 0;        ///< track-frames without a detection (merged ones included)
+  int64_t merged = 0;        ///< of those, the track was beside another track's detection
+  int64_t lost = 0;          ///< tracks ended after max_missed_frames
+  int64_t left_view = 0;     ///< tracks ended at the image's edge
+  int64_t entered_view = 0;  ///< tracks started at the image's edge after the first frame
 };
 
 class Tracker {

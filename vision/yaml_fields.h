@@ -1,7 +1,8 @@
 #pragma once
 // Checked reading of the YAML files of vision/ (calib.yaml, target.yaml) through cv::FileStorage:
 // every failure is one InputError naming the file and the key ("calib.yaml: K must be a 3 x 3
-// matrix"). Keys are top-level ("width_px") or one level deep in dotted form ("board.square_size_m").
+// matrix"). Keys are top-level ("width_px") or one level deep in dotted form
+// ("board.square_size_m").
 
 #include <Eigen/Core>
 #include <cmath>

@@ -30,7 +30,8 @@ void expect_failure(const std::string& args, int code, const std::string& fragme
 }
 
 TEST(Cli, HelpForEveryCommand) {
-  for (const char* cmd : {"", "field", "aim", "fitfield", "maketable", "identify", "collect", "calibrate-dynamics"}) {
+  for (const char* cmd :
+       {"", "field", "aim", "fitfield", "maketable", "identify", "collect", "calibrate-dynamics"}) {
     const auto r = run_airtwin(std::string(cmd) + " --help");
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;

@@ -69,8 +69,8 @@ Dataset make_dataset(int frames) {
     cv::imwrite(out.dir + name, renderer.render(twin.data(), f), {cv::IMWRITE_PNG_COMPRESSION, 1});
     std::vector<TruthRow> rows;
     for (size_t i = 0; i < twin.object_count(); ++i) {
-      rows.push_back({twin.object(i).id, object_type_name(twin.object(i).type),
-                      twin.object_state(i).p_W});
+      rows.push_back(
+          {twin.object(i).id, object_type_name(twin.object(i).type), twin.object_state(i).p_W});
     }
     out.truth.push_back(rows);
     twin.advance(1.0 / 40.0);
@@ -156,15 +156,17 @@ TEST(DetectCli, LosslessVideoGivesTheSameCsv) {
     }
   }
   const std::string calib = " --calib " + d.dir + "/calib.yaml --quiet";
-  ASSERT_EQ(run_airtwin("detect " + out + "/clip.mkv --out " + out + "/v.csv" + calib).exit_code, 0);
+  ASSERT_EQ(run_airtwin("detect " + out + "/clip.mkv --out " + out + "/v.csv" + calib).exit_code,
+            0);
   ASSERT_EQ(run_airtwin("detect " + out + "/frames --out " + out + "/f.csv" + calib).exit_code, 0);
   EXPECT_EQ(read_text_file(out + "/v.csv"), read_text_file(out + "/f.csv"));
   EXPECT_EQ(count_lines(read_text_file(out + "/v.csv")), 1 + 12 * 5);
   // --fps sets the times.
-  const auto r = run_airtwin("detect " + out + "/clip.mkv --fps 20 --out " + out + "/s.csv" + calib);
+  const auto r =
+      run_airtwin("detect " + out + "/clip.mkv --fps 20 --out " + out + "/s.csv" + calib);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const CsvTable table = CsvTable::read_file(out + "/s.csv", {"frame", "t", "id", "object", "x",
-                                                                "y", "x_px", "y_px"});
+  const CsvTable table =
+      CsvTable::read_file(out + "/s.csv", {"frame", "t", "id", "object", "x", "y", "x_px", "y_px"});
   EXPECT_EQ(table.text(table.rows() - 1, "t"), "0.550000");
 }
 
@@ -184,8 +186,8 @@ TEST(DetectCli, TimesCsvInTheFolder) {
                              dir + "/d.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("times from"), std::string::npos) << r.out;
-  const CsvTable table = CsvTable::read_file(dir + "/d.csv", {"frame", "t", "id", "object", "x",
-                                                                "y", "x_px", "y_px"});
+  const CsvTable table =
+      CsvTable::read_file(dir + "/d.csv", {"frame", "t", "id", "object", "x", "y", "x_px", "y_px"});
   EXPECT_EQ(table.text(table.rows() - 1, "t"), "100.060000");
 }
 

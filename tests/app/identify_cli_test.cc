@@ -108,18 +108,21 @@ TEST_F(IdentifyCli, BadInputIsOneClearLine) {
   expect_failure("identify " + d + "/tracer.csv --lambda nan --out x.json", 2, "--lambda");
   expect_failure("identify " + d + "/tracer.csv --bootstraps 0 --out x.json", 2, "--bootstraps");
   expect_failure("identify " + d + "/tracer.csv --terms 1,vair --out x.json", 2, "must include v");
-  expect_failure("identify " + d + "/tracer.csv --terms 1,v,w --out x.json", 2,
-                 "unknown term 'w'");
+  expect_failure("identify " + d + "/tracer.csv --terms 1,v,w --out x.json", 2, "unknown term 'w'");
   expect_failure("identify " + d + "/missing.csv --out x.json", 1, "missing.csv");
   expect_failure("identify " + d + "/tracer.csv --object pebble --out x.json", 1, "pebble");
-  write(d + "/bad.csv", "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"
-                        "1,tracer,0.025,inf,0.2,0,0\n");
+  write(d + "/bad.csv",
+        "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"
+        "1,tracer,0.025,inf,0.2,0,0\n");
   expect_failure("identify " + d + "/bad.csv --out x.json", 1, "bad.csv:3: column 'x'");
-  write(d + "/few.csv", "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"
-                        "1,tracer,0.025,0.11,0.2,0,0\n1,tracer,0.05,0.13,0.2,0,0\n"
-                        "1,tracer,0.075,0.16,0.2,0,0\n1,tracer,0.1,0.2,0.2,0,0\n");
+  write(d + "/few.csv",
+        "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"
+        "1,tracer,0.025,0.11,0.2,0,0\n1,tracer,0.05,0.13,0.2,0,0\n"
+        "1,tracer,0.075,0.16,0.2,0,0\n1,tracer,0.1,0.2,0.2,0,0\n");
   expect_failure("identify " + d + "/few.csv --out x.json", 1, "usable speed pairs");
-  write(d + "/binary.csv", std::string("\x7f" "ELF\x01\x00\x00", 7));
+  write(d + "/binary.csv", std::string("\x7f"
+                                       "ELF\x01\x00\x00",
+                                       7));
   expect_failure("identify " + d + "/binary.csv --out x.json", 1, "binary.csv");
   expect_failure("identify --series " + d + "/tracer.csv --out x.json", 1, "tracer.csv");
 }

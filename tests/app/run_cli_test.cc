@@ -34,7 +34,8 @@ void write_extended_model(const std::string& path, const std::string& extensions
       "objects": {"tracer": {"xi1": -2.66, "xi2": 4.26, "xi3": -8.53}},
       "nozzle_response": {"max_speed_radps": 7, "max_acceleration_radps2": 30,
                           "transit_delay_s": 0.2},
-      "extensions": {)" + extensions + "}}";
+      "extensions": {)" + extensions +
+                             "}}";
 }
 
 std::string slurp(const std::string& path) {
@@ -49,9 +50,9 @@ TEST(RunCli, LineWritesSummaryLogAndDecisions) {
   const auto r = run_airtwin("run " + kScenes + "line.yaml --seed 2 --quiet --out " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(slurp(d + "/summary.json"));
-  for (const char* key : {"scenario", "seed", "success", "completion_time_s", "path_error_cm",
-                          "max_pairwise_distance_cm", "objects_in_zone", "n_objects",
-                          "decisions", "decision_ms"}) {
+  for (const char* key :
+       {"scenario", "seed", "success", "completion_time_s", "path_error_cm",
+        "max_pairwise_distance_cm", "objects_in_zone", "n_objects", "decisions", "decision_ms"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["scenario"], "line");
@@ -119,8 +120,7 @@ TEST(RunCli, BadInputIsOneClearLine) {
   EXPECT_FALSE(std::ifstream(d + "/o/summary.json").good());
 
   // An extended model with a value out of its extension's range is one line naming it.
-  write_extended_model(d + "/ext.json",
-                       R"("floor_slope": {"angle_deg": 95, "direction_deg": 0})");
+  write_extended_model(d + "/ext.json", R"("floor_slope": {"angle_deg": 95, "direction_deg": 0})");
   const auto ext = run_airtwin(line + "--model " + d + "/ext.json");
   EXPECT_EQ(ext.exit_code, 1);
   EXPECT_EQ(count_lines(ext.err), 1) << ext.err;

@@ -68,8 +68,8 @@ class CemPlannerTest : public ::testing::Test {
 TEST_F(CemPlannerTest, CostIsEquationTenWithTheReferencePredictor) {
   const CemPlanner planner(model_, CemParameters::line_defaults());
   const CvodePredictor cvode;
-  for (const Eigen::Vector2d& s : {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(0.45, -0.3),
-                                  Eigen::Vector2d(-0.2, 0.4)}) {
+  for (const Eigen::Vector2d& s :
+       {Eigen::Vector2d(0.55, 0.0), Eigen::Vector2d(0.45, -0.3), Eigen::Vector2d(-0.2, 0.4)}) {
     const AimResult aim = aim_at_stagnation(model_.geometry(), s);
     ASSERT_TRUE(aim.reachable());
     const OrientedField field = model_.at(*aim.orientation);
@@ -156,8 +156,8 @@ TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
   ASSERT_TRUE(aim.reachable());
   EXPECT_NEAR(plan.orientation.pan_rad, wrap_angle(aim.orientation->pan_rad - deg_to_rad(6.0)),
               1e-12);
-  EXPECT_NEAR(plan.orientation.tilt_rad,
-              std::max(0.0, aim.orientation->tilt_rad - deg_to_rad(3.0)), 1e-12);
+  EXPECT_NEAR(plan.orientation.tilt_rad, std::max(0.0, aim.orientation->tilt_rad - deg_to_rad(3.0)),
+              1e-12);
   // A bad extension is refused when the planner is made.
   ExtendedPlanning bad = ext;
   bad.extensions.static_friction_ratio = 0.2;
@@ -209,8 +209,9 @@ TEST_F(CemPlannerTest, LineSearchFindsTheScanMinimum) {
   EXPECT_NEAR(d.normalized().dot(e), 1.0, 1e-9);
   EXPECT_GT(result.evaluations, 0);
   // Its orientation puts s where it says (eqs. 1-2).
-  EXPECT_NEAR((stagnation_point(model_.geometry(), result.orientation) - result.stagnation_W).norm(),
-              0.0, 1e-9);
+  EXPECT_NEAR(
+      (stagnation_point(model_.geometry(), result.orientation) - result.stagnation_W).norm(), 0.0,
+      1e-9);
 }
 
 TEST_F(CemPlannerTest, PlaneSearchBeatsDoingNothingWhenItCan) {
@@ -333,10 +334,10 @@ TEST_F(CemPlannerTest, TransitionWithoutAReaimIsEquationTen) {
 // continuous sweep (continuous_sweep_ends above). A tracer 1 m out at pan -135 deg, on the short
 // way the servos do not take, stays.
 TEST_F(CemPlannerTest, TransitionPredictsTheServosSweep) {
-  const Eigen::Vector2d s_from = 0.5 * Eigen::Vector2d(std::cos(deg_to_rad(140.0)),
-                                                       std::sin(deg_to_rad(140.0)));
-  const Eigen::Vector2d s_to = 0.25 * Eigen::Vector2d(std::cos(deg_to_rad(-95.0)),
-                                                      std::sin(deg_to_rad(-95.0)));
+  const Eigen::Vector2d s_from =
+      0.5 * Eigen::Vector2d(std::cos(deg_to_rad(140.0)), std::sin(deg_to_rad(140.0)));
+  const Eigen::Vector2d s_to =
+      0.25 * Eigen::Vector2d(std::cos(deg_to_rad(-95.0)), std::sin(deg_to_rad(-95.0)));
   const NozzleOrientation from = *aim_at_stagnation(model_.geometry(), s_from).orientation;
   const NozzleOrientation to = *aim_at_stagnation(model_.geometry(), s_to).orientation;
   const std::vector<Eigen::Vector2d> p = {

@@ -56,7 +56,7 @@ class ModelRig final : public Rig {
 
   int aims_ = 0;
   int hide_every_ = 0;
-  int hide_from_ = 0;  // object 0 unseen from this observation (1-based) on
+  int hide_from_ = 0;                       // object 0 unseen from this observation (1-based) on
   bool report_hidden_out_of_view_ = false;  // ... and reported out of view
 
  private:
@@ -152,8 +152,8 @@ TEST(ClosedLoop, AnObjectOutOfViewKeepsTheTaskOpen) {
                          ObservedObject{"b", "tracer", {-0.5, 0.1}, {0, 0}}});
     rig.hide_from_ = 2;  // "a" is seen at t = 0 only
     rig.report_hidden_out_of_view_ = reported;
-    Controller controller(model, CemParameters::line_defaults(), agg,
-                          {{"tracer", kTracerDynamics}}, 2, /*forget_after_s=*/3.0);
+    Controller controller(model, CemParameters::line_defaults(), agg, {{"tracer", kTracerDynamics}},
+                          2, /*forget_after_s=*/3.0);
     const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.8, 8.0});
     EXPECT_EQ(result.objects_seen_at_end, 1) << reported;
     if (reported) {

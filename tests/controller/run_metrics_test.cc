@@ -13,7 +13,8 @@ TEST(RunMetrics, PathErrorStatisticsAndPairwiseDistance) {
   t.path_W = {{0.0, 0.0}, {1.0, 0.0}};
   RunMetrics m(t);
   const std::vector<std::string> types(2, "tracer");
-  // Distances to the x axis: frame 1: 0.01, 0.03; frame 2: 0.02, 0.00 (the second pair 0.5 m apart in x).
+  // Distances to the x axis: frame 1: 0.01, 0.03; frame 2: 0.02, 0.00 (the second pair 0.5 m apart
+  // in x).
   m.add_frame({{0.1, 0.01}, {0.2, -0.03}}, types);
   m.add_frame({{0.3, 0.02}, {0.8, 0.0}}, types);
   const ErrorStats e = m.path_error();

@@ -62,7 +62,7 @@ TEST(DistanceToPath, MatchesDenseSampling) {
     }
   }
   for (const Eigen::Vector2d& q : {Eigen::Vector2d(0.1, 0.3), Eigen::Vector2d(-0.5, -0.1),
-                                  Eigen::Vector2d(0.25, 0.3), Eigen::Vector2d(0.0, 0.0)}) {
+                                   Eigen::Vector2d(0.25, 0.3), Eigen::Vector2d(0.0, 0.0)}) {
     double best = 1e9;
     for (const auto& d : dense) best = std::min(best, (q - d).norm());
     EXPECT_NEAR(distance_to_path(path, q), best, 2e-5) << q.transpose();
@@ -157,9 +157,9 @@ TEST(TaskProgress, SortingInStagesDefersTheTypesAfterTheActiveOne) {
   sort.deferred_weight = 0.2;
   sort.reach_m = 0.9;
   ASSERT_TRUE(sort.stages_auto);  // the default
-  const TaskSpec resolved = resolve_sorting_stages(
-      sort, {{"tracer", kTracerDynamics.threshold_air_speed()},
-             {"cotton", kCottonDynamics.threshold_air_speed()}});
+  const TaskSpec resolved =
+      resolve_sorting_stages(sort, {{"tracer", kTracerDynamics.threshold_air_speed()},
+                                    {"cotton", kCottonDynamics.threshold_air_speed()}});
   EXPECT_FALSE(resolved.stages_auto);
   EXPECT_EQ(resolved.stages, (std::vector<std::string>{"tracer", "cotton"}));
   // Reversed thresholds, reversed order.

@@ -211,8 +211,9 @@ TEST(AirField, RaysViewEqualsTheFullField) {
     EXPECT_EQ(rays.coefficient_tilt_rad(), f.coefficient_tilt_rad());
     EXPECT_EQ(&rays.model(), &model);
     for (int k = 0; k < 40; ++k) {
-      const double a = k == 0 ? std::nextafter(2 * kPi, 0.0) : k == 1 ? deg_to_rad(359.5)
-                                                                      : alpha(rng);
+      const double a = k == 0   ? std::nextafter(2 * kPi, 0.0)
+                       : k == 1 ? deg_to_rad(359.5)
+                                : alpha(rng);
       const FieldCoefficients x = rays.coefficients(a), y = f.coefficients(a);
       ASSERT_EQ(x.b1, y.b1) << "trial " << trial << " alpha " << a;
       ASSERT_EQ(x.b2, y.b2);

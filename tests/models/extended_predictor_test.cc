@@ -52,7 +52,8 @@ TEST(ExtendedPredictor, NominalIsEquations8And9) {
   const std::vector<double> t = frames(2.0);
   for (double r : {0.2, 0.35, 0.5}) {
     for (double a : {0.0, 1.5, 3.0}) {
-      const Eigen::Vector2d p0 = f.stagnation_point() + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+      const Eigen::Vector2d p0 =
+          f.stagnation_point() + r * Eigen::Vector2d(std::cos(a), std::sin(a));
       const std::vector<Eigen::Vector2d> ours =
           predict(kTracerDynamics, {}, settled(kO), p0, Eigen::Vector2d::Zero(), t);
       ObjectState s0;
@@ -60,8 +61,8 @@ TEST(ExtendedPredictor, NominalIsEquations8And9) {
       PredictionOptions po;
       po.horizon_s = 2.0;
       po.sample_rate_hz = 40.0;
-      const Prediction ref = reference.predict(f, std::span(&kTracerDynamics, 1),
-                                               std::span(&s0, 1), po);
+      const Prediction ref =
+          reference.predict(f, std::span(&kTracerDynamics, 1), std::span(&s0, 1), po);
       for (size_t k = 0; k < t.size(); ++k) {
         // 1 ms semi-implicit Euler against an adaptive solver: a few mm over 2 s.
         EXPECT_LT((ours[k] - ref.sample(k + 1, 0).p_W).norm(), 4e-3) << "r " << r << " k " << k;
@@ -100,8 +101,11 @@ TEST(ExtendedPredictor, QuadraticDragPushAndScaleAlongARay) {
   const OrientedField of = field().at(kO);
   const Eigen::Vector2d s = of.stagnation_point(), e(0.6, 0.8);
   const double t_end = 0.6;  // still moving: compares the motion, not only where it stops
-  for (const auto& [f, c, A, l] : std::vector<std::tuple<double, double, double, double>>{
-           {1.2, 0.0, 0.0, 0.15}, {1.0, 1.0, 0.0, 0.15}, {1.0, 0.0, 12.0, 0.2}, {0.9, 0.5, 6.0, 0.1}}) {
+  for (const auto& [f, c, A, l] :
+       std::vector<std::tuple<double, double, double, double>>{{1.2, 0.0, 0.0, 0.15},
+                                                               {1.0, 1.0, 0.0, 0.15},
+                                                               {1.0, 0.0, 12.0, 0.2},
+                                                               {0.9, 0.5, 6.0, 0.1}}) {
     ModelExtensions ext;
     ext.field_scale = f;
     ext.quadratic_drag_per_m = c;
@@ -123,7 +127,8 @@ TEST(ExtendedPredictor, OffsetAndDelayAreShiftsOfTheCommands) {
   ModelExtensions offset;
   offset.pan_offset_rad = deg_to_rad(5.0);
   offset.tilt_offset_rad = deg_to_rad(3.0);
-  const NozzleOrientation b_off{b.pan_rad + offset.pan_offset_rad, b.tilt_rad + offset.tilt_offset_rad};
+  const NozzleOrientation b_off{b.pan_rad + offset.pan_offset_rad,
+                                b.tilt_rad + offset.tilt_offset_rad};
   const auto x = predict(kTracerDynamics, offset, settled(b), p0, kAtRest, t);
   const auto y = predict(kTracerDynamics, {}, settled(b_off), p0, kAtRest, t);
   for (size_t k = 0; k < t.size(); ++k) EXPECT_LT((x[k] - y[k]).norm(), 1e-9);
@@ -133,11 +138,12 @@ TEST(ExtendedPredictor, OffsetAndDelayAreShiftsOfTheCommands) {
   delay.extra_delay_s = 0.3;
   const auto d = predict(kTracerDynamics, delay, NozzleTimeline(p, {{-5.0, a}, {0.2, b}}, 5.0), p0,
                          kAtRest, t);
-  const auto s = predict(kTracerDynamics, {}, NozzleTimeline(p, {{-5.0, a}, {0.5, b}}, 5.0), p0, kAtRest,
-                         t);
+  const auto s =
+      predict(kTracerDynamics, {}, NozzleTimeline(p, {{-5.0, a}, {0.5, b}}, 5.0), p0, kAtRest, t);
   for (size_t k = 0; k < t.size(); ++k) EXPECT_LT((d[k] - s[k]).norm(), 2e-3) << k;
   // And the delay matters: the object leaves later.
-  const auto n = predict(kTracerDynamics, {}, NozzleTimeline(p, {{-5.0, a}, {0.2, b}}, 5.0), p0, kAtRest, t);
+  const auto n =
+      predict(kTracerDynamics, {}, NozzleTimeline(p, {{-5.0, a}, {0.2, b}}, 5.0), p0, kAtRest, t);
   double most = 0.0;
   for (size_t k = 0; k < t.size(); ++k) most = std::max(most, (n[k] - d[k]).norm());
   EXPECT_GT(most, 0.05);
@@ -173,8 +179,8 @@ TEST(ExtendedPredictor, SlopePullsAMovingObjectDownhill) {
   ModelExtensions slope;
   slope.slope_rad = deg_to_rad(4.0);
   slope.slope_direction_rad = deg_to_rad(-120.0);
-  const Eigen::Vector2d v0(1.5, 0.0), d(std::cos(slope.slope_direction_rad),
-                                        std::sin(slope.slope_direction_rad));
+  const Eigen::Vector2d v0(1.5, 0.0),
+      d(std::cos(slope.slope_direction_rad), std::sin(slope.slope_direction_rad));
   const double t_end = 0.15;
   const ObjectDynamics& xi = kTracerDynamics;
   auto reference = [&](double tilt_rad) {
@@ -186,8 +192,10 @@ TEST(ExtendedPredictor, SlopePullsAMovingObjectDownhill) {
     const double h = 1e-5;
     for (double t = 0.0; t < t_end - 1e-12; t += h) {
       const Eigen::Vector2d k1p = v, k1v = acc(p, v);
-      const Eigen::Vector2d k2p = v + 0.5 * h * k1v, k2v = acc(p + 0.5 * h * k1p, v + 0.5 * h * k1v);
-      const Eigen::Vector2d k3p = v + 0.5 * h * k2v, k3v = acc(p + 0.5 * h * k2p, v + 0.5 * h * k2v);
+      const Eigen::Vector2d k2p = v + 0.5 * h * k1v,
+                            k2v = acc(p + 0.5 * h * k1p, v + 0.5 * h * k1v);
+      const Eigen::Vector2d k3p = v + 0.5 * h * k2v,
+                            k3v = acc(p + 0.5 * h * k2p, v + 0.5 * h * k2v);
       const Eigen::Vector2d k4p = v + h * k3v, k4v = acc(p + h * k3p, v + h * k3v);
       p += h / 6 * (k1p + 2 * k2p + 2 * k3p + k4p);
       v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
@@ -241,7 +249,8 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
     if (t_end > 1.0) EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
   }
   std::vector<Eigen::Vector2d> two(2);
-  const std::vector<WindowStart> apart = {{0.0, {0.5, 0.2}, {0.0, 0.0}}, {0.1, {0.5, 0.2}, {0.0, 0.0}}};
+  const std::vector<WindowStart> apart = {{0.0, {0.5, 0.2}, {0.0, 0.0}},
+                                          {0.1, {0.5, 0.2}, {0.0, 0.0}}};
   EXPECT_THROW(predictor.predict_ends({xi.data(), 2}, ext, timeline, apart, 1.0, two), InputError);
   EXPECT_THROW(predictor.predict_ends(xi, ext, timeline, starts, 1.0, two), InputError);
 }
@@ -251,7 +260,8 @@ TEST(ExtendedPredictor, RejectsBadInput) {
   bad.static_friction_ratio = 0.5;
   EXPECT_THROW(predict(kTracerDynamics, bad, settled(kO), {0.5, 0.5}, kAtRest, {0.1}), InputError);
   EXPECT_THROW(predict(kTracerDynamics, {}, settled(kO), {NAN, 0.5}, kAtRest, {0.1}), InputError);
-  EXPECT_THROW(predict(kTracerDynamics, {}, settled(kO), {0.5, 0.5}, kAtRest, {0.2, 0.1}), InputError);
+  EXPECT_THROW(predict(kTracerDynamics, {}, settled(kO), {0.5, 0.5}, kAtRest, {0.2, 0.1}),
+               InputError);
   EXPECT_THROW(ExtendedPredictor(field(), 0.0), InputError);
 }
 

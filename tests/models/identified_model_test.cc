@@ -32,9 +32,17 @@ IdentifiedModel tracer_model() {
 }
 
 TEST(IdentifiedModel, TheFileHasTheDocumentedKeysInOrder) {
-  const nlohmann::ordered_json j = nlohmann::ordered_json::parse(identified_model_json(tracer_model()));
-  const char* first[] = {"object", "method", "terms", "coefficients", "discrete_coefficients",
-                         "inclusion_probability", "r2", "end_position_mape", "n_samples",
+  const nlohmann::ordered_json j =
+      nlohmann::ordered_json::parse(identified_model_json(tracer_model()));
+  const char* first[] = {"object",
+                         "method",
+                         "terms",
+                         "coefficients",
+                         "discrete_coefficients",
+                         "inclusion_probability",
+                         "r2",
+                         "end_position_mape",
+                         "n_samples",
                          "n_dropped"};
   auto it = j.begin();
   for (const char* key : first) {

@@ -51,7 +51,8 @@ TEST(SavitzkyGolay, WhiteNoiseVarianceDropsByTheClassicalFactor) {
   double sum2 = 0;
   for (size_t i = 4; i + 4 < y.size(); ++i) sum2 += y[i] * y[i];
   const double variance = sum2 / (y.size() - 8);
-  const double m = 4, factor = 3 * (3 * m * m + 3 * m - 1) / ((2 * m - 1) * (2 * m + 1) * (2 * m + 3));
+  const double m = 4,
+               factor = 3 * (3 * m * m + 3 * m - 1) / ((2 * m - 1) * (2 * m + 1) * (2 * m + 3));
   EXPECT_NEAR(factor, 59.0 / 231.0, 1e-12);
   EXPECT_NEAR(variance, factor, 0.01);  // standard error of the estimate ~0.0015
 }
@@ -62,7 +63,7 @@ TEST(SavitzkyGolay, ShortSeriesAndEdgeCases) {
   EXPECT_NEAR(line[0], 1.0, 1e-12);
   EXPECT_NEAR(line[1], 3.0, 1e-12);
   const std::vector<double> x = {1.0, 2.0, 4.0};
-  EXPECT_EQ(savitzky_golay(x, 0, 3), x);  // no window: unchanged
+  EXPECT_EQ(savitzky_golay(x, 0, 3), x);                  // no window: unchanged
   const std::vector<double> q = savitzky_golay(x, 4, 1);  // straight line through three points
   EXPECT_NEAR(q[0], 5.0 / 6.0, 1e-12);
   EXPECT_NEAR(q[2], 23.0 / 6.0, 1e-12);

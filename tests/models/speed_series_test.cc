@@ -19,9 +19,8 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(SpeedSeries, ReadsAUniformSeriesInAnyColumnOrder) {
-  const SpeedSeries s =
-      parse_speed_series_csv("vair,t,v\n# comment\n2.5,0.000,0.0\n2.4,0.025,0.1\n2.3,0.050,0.2\n",
-                             "s.csv");
+  const SpeedSeries s = parse_speed_series_csv(
+      "vair,t,v\n# comment\n2.5,0.000,0.0\n2.4,0.025,0.1\n2.3,0.050,0.2\n", "s.csv");
   ASSERT_EQ(s.size(), 3u);
   EXPECT_NEAR(s.dt_s, 0.025, 1e-15);
   EXPECT_EQ(s.v_mps[2], 0.2);

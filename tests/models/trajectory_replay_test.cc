@@ -65,13 +65,13 @@ TEST(TrajectoryReplay, FollowsTheRecordedScheduleLikeThePredictor) {
   const ObjectState start{{0.3, 0.2}, 0.0};
   PredictionOptions po;
   po.horizon_s = 1.5;
-  const Prediction p =
-      CvodePredictor().predict(model, schedule, std::span(&kTracerDynamics, 1),
-                               std::span(&start, 1), po);
+  const Prediction p = CvodePredictor().predict(model, schedule, std::span(&kTracerDynamics, 1),
+                                                std::span(&start, 1), po);
   EXPECT_LT((p.end[0].p_W - r.trajectories[0].predicted_end_W).norm(), 1e-3);
   const double travel = (Eigen::Vector2d(0.9, 0.4) - Eigen::Vector2d(0.3, 0.2)).norm();
   EXPECT_NEAR(r.trajectories[0].travel_m, travel, 1e-12);
-  EXPECT_NEAR(r.mape_pct, 100 * (r.trajectories[0].predicted_end_W - Eigen::Vector2d(0.9, 0.4)).norm() / travel,
+  EXPECT_NEAR(r.mape_pct,
+              100 * (r.trajectories[0].predicted_end_W - Eigen::Vector2d(0.9, 0.4)).norm() / travel,
               1e-9);
 }
 

@@ -1,7 +1,8 @@
-// Closed-loop acceptance in the default twin (fast mode: the controller sees the twin's truth),
-// 10 seeds per scenario, against the paper's section V and Table I. Label `closedloop`, Release.
-// What is asserted is what the twin achieves today on seeds 1-10; docs/controller.md has the
-// measurements, including sorting's lower rate on other seeds.
+// Closed-loop success of every shipped scenario in the default twin (fast mode: the controller
+// sees the twin's truth), against the paper's section V and Table I, and the octagon with vision.
+// Label `closedloop`, Release. In CI each scenario runs seeds 1-3 and every run must succeed; the
+// acceptance tier (scripts/acceptance.sh) runs seeds 1-10 and allows one failure in ten, as
+// measured (docs/controller.md). Runs are deterministic per seed, so a CI failure is a regression.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "rigs/scenario_run.h"
+#include "tests/support/test_run.h"
 
 namespace airtwin {
 namespace {
@@ -30,6 +32,11 @@ double median(std::vector<double> v) {
   const size_t n = v.size();
   return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
+
+// Seeds 1..n of the tier: 3 in CI, 10 in the acceptance tier.
+int seed_count() { return testing::acceptance_tier() ? 10 : 3; }
+// Successes required: all in CI; 9 of 10 in the acceptance tier.
+int required_successes(int seeds) { return seeds >= 10 ? seeds - 1 : seeds; }
 
 Tally run_seeds(const std::string& name, int seeds) {
   const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
@@ -57,31 +64,33 @@ Tally run_seeds(const std::string& name, int seeds) {
 }
 
 TEST(ClosedLoopAcceptance, OctagonFourTracers) {
-  const Tally t = run_seeds("octagon", 10);
-  EXPECT_GE(t.success, 9);
+  const int n = seed_count();
+  const Tally t = run_seeds("octagon", n);
+  EXPECT_GE(t.success, required_successes(n));
   // Table I row 4: mean 5.65 cm, max 20.32 cm, 205 s; pairwise distance <= 30 cm (issue).
   EXPECT_LE(t.median_mean_error_m, 2.0 * 0.0565);
   EXPECT_LE(t.median_max_error_m, 2.0 * 0.2032);
   EXPECT_LE(t.median_time_s, 1.5 * 205.0);
-  // The group stays within 30 cm in the runs that count: 9 of 10 seeds must both finish and keep
-  // it (the same one-in-ten allowance as success; docs/controller.md).
-  EXPECT_GE(t.success_within_30cm, 9) << "worst pairwise " << t.worst_pairwise_m << " m";
+  // The group stays within 30 cm in the runs that count: every CI seed, 9 of 10 in the
+  // acceptance tier, must both finish and keep it (docs/controller.md).
+  EXPECT_GE(t.success_within_30cm, required_successes(n))
+      << "worst pairwise " << t.worst_pairwise_m << " m";
 }
 
 TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
-  const Tally t = run_seeds("aggregation", 10);
-  EXPECT_GE(t.success, 9);
+  const int n = seed_count();
+  const Tally t = run_seeds("aggregation", n);
+  EXPECT_GE(t.success, required_successes(n));
   EXPECT_LE(t.worst_time_s, 150.0);  // every successful run (paper: 105 s)
 }
 
 // Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks
-// for 9 of 10, all six in their zones within 60 s (paper: 40 s). Measured: 10/10 on seeds 1-10,
-// 29/30 on seeds 1-30 (docs/controller.md): this test guards seeds 1-10 against regressions; the
-// rate over more seeds is measured with 'airtwin batch'. The median run within 1.5x the paper's
-// time.
+// for 9 of 10, all six in their zones within 60 s (paper: 40 s); 29/30 over seeds 1-30 is
+// measured by scripts/acceptance.sh. The median run within 1.5x the paper's time.
 TEST(ClosedLoopAcceptance, SortingByTypeInStages) {
-  const Tally t = run_seeds("sorting", 10);
-  EXPECT_GE(t.success, 9);
+  const int n = seed_count();
+  const Tally t = run_seeds("sorting", n);
+  EXPECT_GE(t.success, required_successes(n));
   EXPECT_LE(t.median_time_s, 1.5 * 40.0);
   EXPECT_LE(t.worst_time_s, 60.0);
 }
@@ -95,9 +104,10 @@ TEST(ClosedLoopAcceptance, SingleTracerPathsAsTableI) {
   } paths[] = {{"line", 0.0067, 0.0252, 38.0},
                {"square", 0.0124, 0.0440, 154.0},
                {"letter_A", 0.0082, 0.0329, 108.0}};
+  const int n = seed_count();
   for (const auto& p : paths) {
-    const Tally t = run_seeds(p.name, 10);
-    EXPECT_GE(t.success, 9) << p.name;
+    const Tally t = run_seeds(p.name, n);
+    EXPECT_GE(t.success, required_successes(n)) << p.name;
     EXPECT_LE(t.median_mean_error_m, 2.0 * p.mean_m) << p.name;
     EXPECT_LE(t.median_max_error_m, 2.0 * p.max_m) << p.name;
     EXPECT_LE(t.median_time_s, 1.5 * p.time_s) << p.name;
@@ -109,8 +119,7 @@ TEST(ClosedLoopAcceptance, SingleTracerPathsAsTableI) {
 // still within 2x of Table I. (The group's spread is not asserted here: with noise this seed's
 // maximum pairwise distance reached 39 cm, against 18 cm in fast mode; docs/controller.md.)
 TEST(ClosedLoopAcceptance, OctagonWithVision) {
-  const Scenario sc =
-      read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/octagon.yaml");
+  const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/octagon.yaml");
   const AirFieldModel field = AirFieldModel::with_default_table();
   ScenarioRunOptions options;
   options.seed = 1;

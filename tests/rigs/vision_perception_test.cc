@@ -24,7 +24,7 @@ Track track(int id, ObjectKind kind, Eigen::Vector2d p, Eigen::Vector2d v, doubl
 TEST(ReportTracks, RecentTracksAtTheirPredictedPositions) {
   VisionPerceptionOptions o;
   const std::vector<Track> tracks = {
-      track(2, ObjectKind::kCotton, {0.5, 0.0}, {0.1, 0.0}, 9.8),   // 0.2 s old: moved 2 cm
+      track(2, ObjectKind::kCotton, {0.5, 0.0}, {0.1, 0.0}, 9.8),  // 0.2 s old: moved 2 cm
       track(1, ObjectKind::kTracer, {-0.5, 0.0}, {0.0, 0.0}, 10.0),
       track(3, ObjectKind::kTracer, {0.0, 0.5}, {0.0, 0.0}, 9.4)};  // 0.6 s unseen: withheld
   const TrackReport r = report_tracks(tracks, 10.0, o);

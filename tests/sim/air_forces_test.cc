@@ -223,8 +223,8 @@ TEST(AirForces, EffectTermsFollowTheirLaws) {
   params.extra_push_mps2 = 5.0;
   params.extra_push_length_m = 0.2;
   const double r = p.norm(), l = 0.2;
-  const double push = jet * jet * 5.0 * std::sqrt(2.0 * std::exp(1.0)) * (r / l) *
-                      std::exp(-(r / l) * (r / l));
+  const double push =
+      jet * jet * 5.0 * std::sqrt(2.0 * std::exp(1.0)) * (r / l) * std::exp(-(r / l) * (r / l));
   EXPECT_TRUE(near(acceleration(params), drag(u) + push * p / r));
   EXPECT_NEAR(std::sqrt(2.0 * std::exp(1.0)) * std::sqrt(0.5) * std::exp(-0.5), 1.0, 1e-15);
 }

@@ -91,10 +91,11 @@ TEST(Collection, SameSeedSameBytesWhateverTheThreadCount) {
   EXPECT_EQ(trajectory_csv(run_collection(o, field)), one);
   o.threads = 2;
   int calls = 0;
-  EXPECT_EQ(trajectory_csv(run_collection(o, field, [&](int done, int total) {
-              ++calls;
-              EXPECT_LE(done, total);
-            })),
+  EXPECT_EQ(trajectory_csv(run_collection(o, field,
+                                          [&](int done, int total) {
+                                            ++calls;
+                                            EXPECT_LE(done, total);
+                                          })),
             one);
   EXPECT_EQ(calls, 4);
   o.seed = 5;

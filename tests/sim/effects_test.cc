@@ -13,8 +13,8 @@
 
 #include "common/errors.h"
 #include "common/units.h"
-#include "tests/support/eq8_reference.h"
 #include "models/nozzle_geometry.h"
+#include "tests/support/eq8_reference.h"
 
 namespace airtwin {
 namespace {

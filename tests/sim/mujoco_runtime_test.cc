@@ -33,9 +33,10 @@ TEST(MujocoRuntime, LoadsMjcfFromMemory) {
 
 TEST(MujocoRuntime, BadMjcfIsAnInputErrorNamingTheSource) {
   try {
-    load_model_from_xml("<mujoco><worldbody><body><geom type=\"nosuch\"/></body></worldbody>"
-                        "</mujoco>",
-                        "scenes/broken.xml");
+    load_model_from_xml(
+        "<mujoco><worldbody><body><geom type=\"nosuch\"/></body></worldbody>"
+        "</mujoco>",
+        "scenes/broken.xml");
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
     const std::string what = e.what();

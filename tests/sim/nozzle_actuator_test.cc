@@ -57,8 +57,9 @@ TEST(NozzleActuator, ReachesTheCommandAtTheServoRate) {
   const NozzleOrientation target{-kPi / 2, deg_to_rad(50)};
   nozzle.command(target);
   double peak = 0.0, t = 0.0;
-  while ((nozzle.actual().pan_rad != target.pan_rad ||
-          nozzle.actual().tilt_rad != target.tilt_rad) && t < 5.0) {
+  while (
+      (nozzle.actual().pan_rad != target.pan_rad || nozzle.actual().tilt_rad != target.tilt_rad) &&
+      t < 5.0) {
     nozzle.step();
     t += dt;
     peak = std::max({peak, std::abs(nozzle.pan_rate_radps()), std::abs(nozzle.tilt_rate_radps())});

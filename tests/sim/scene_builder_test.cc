@@ -147,8 +147,8 @@ TEST(SceneBuilder, CottonShapeComesFromTheSeed) {
       const int i = 3 * wad.bodies[k] + axis;
       same += std::abs(a.model->body_pos[i] - again.model->body_pos[i]);
       different += std::abs(a.model->body_pos[i] - other.model->body_pos[i]);
-      between_wads += std::abs(a.model->body_pos[i] -
-                               a.model->body_pos[3 * a.objects[3].bodies[k] + axis]);
+      between_wads +=
+          std::abs(a.model->body_pos[i] - a.model->body_pos[3 * a.objects[3].bodies[k] + axis]);
     }
   }
   EXPECT_EQ(same, 0.0);

@@ -17,8 +17,7 @@
 namespace airtwin {
 namespace {
 
-IdentifiedModel collect_and_identify(const std::string& object, int per_tilt,
-                                     std::uint64_t seed,
+IdentifiedModel collect_and_identify(const std::string& object, int per_tilt, std::uint64_t seed,
                                      const IdentificationOptions& options = {}) {
   const AirFieldModel field = AirFieldModel::with_default_table();
   CollectionOptions o;

@@ -49,7 +49,8 @@ TwinParameters eq8_parameters() {
 
 TEST_F(TwinTest, ObjectsWithoutAirStayPut) {
   SceneSpec spec;
-  spec.objects = {{"t", "tracer", {0.3, 0.0}, 0.0}, {"c", "cotton", {-0.3, 0.2}, std::nullopt},
+  spec.objects = {{"t", "tracer", {0.3, 0.0}, 0.0},
+                  {"c", "cotton", {-0.3, 0.2}, std::nullopt},
                   {"c2", "cotton", {0.0, -0.4}, std::nullopt}};
   Twin twin(spec, TwinParameters{}, field_model(), 11);
   const std::vector<ObjectMotion> start = twin.object_states();
@@ -71,8 +72,8 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
   // Turbulence and pressure push off, static = kinetic: the twin's drag and contact friction
   // are exactly eq. (8) but for MuJoCo's soft contacts (friction slightly under mu N while the
   // contact is regularised, rocking of the hemisphere on its disc, the settling in z).
-  for (const NozzleOrientation o : {NozzleOrientation{0.0, 0.0},
-                                    NozzleOrientation{deg_to_rad(30), deg_to_rad(22.5)}}) {
+  for (const NozzleOrientation o :
+       {NozzleOrientation{0.0, 0.0}, NozzleOrientation{deg_to_rad(30), deg_to_rad(22.5)}}) {
     for (const double start : {0.25, 0.45}) {
       TwinParameters p = eq8_parameters();
       p.initial_orientation = o;
@@ -92,15 +93,18 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
         twin.advance_to(0.025 * static_cast<double>(i));
         const Eigen::Vector2d rel = twin.object_state(0).p_W - s;
         worst = std::max(worst, std::abs(rel.norm() - truth[i]));
-        off_ray = std::max(off_ray, std::abs(rel.normalized().dot(Eigen::Vector2d(-dir.y(), dir.x()))) * rel.norm());
+        off_ray =
+            std::max(off_ray, std::abs(rel.normalized().dot(Eigen::Vector2d(-dir.y(), dir.x()))) *
+                                  rel.norm());
       }
       const double travel = truth.back() - truth.front();
       RecordProperty("eq8_error_mm", std::to_string(worst * 1e3));
-      std::printf("eq. (8) check: tilt %.1f deg, start %.2f m: travel %.1f mm, worst |r - r_eq8| "
-                  "%.2f mm (%.1f %% of travel), off-ray %.2f mm\n",
-                  rad_to_deg(o.tilt_rad), start, travel * 1e3, worst * 1e3,
-                  100 * worst / travel, off_ray * 1e3);
-      EXPECT_GT(travel, 0.1);                   // it did move
+      std::printf(
+          "eq. (8) check: tilt %.1f deg, start %.2f m: travel %.1f mm, worst |r - r_eq8| "
+          "%.2f mm (%.1f %% of travel), off-ray %.2f mm\n",
+          rad_to_deg(o.tilt_rad), start, travel * 1e3, worst * 1e3, 100 * worst / travel,
+          off_ray * 1e3);
+      EXPECT_GT(travel, 0.1);  // it did move
       // Measured at the 2.5 ms default step: 0.7-1.7 % of the travel (4-10 mm), off the ray by
       // 0.4-2.3 mm (at 1 ms: 1.4-3.5 %, 1-3.3 mm); the disc rocks and spins a little on MuJoCo's
       // soft contacts while it slides. Tolerance: 4 % + 2 mm, 5 mm.
@@ -202,8 +206,10 @@ TEST_F(TwinTest, TwentyFivePackedTracersStayStable) {
   SceneSpec spec;
   const double pitch = 0.031;
   for (int i = 0; i < 25; ++i) {
-    spec.objects.push_back({numbered("t", i), "tracer",
-                            {0.25 + pitch * (i % 5 - 2), pitch * (i / 5 - 2)}, std::nullopt});
+    spec.objects.push_back({numbered("t", i),
+                            "tracer",
+                            {0.25 + pitch * (i % 5 - 2), pitch * (i / 5 - 2)},
+                            std::nullopt});
   }
   TwinParameters p;
   p.jet_on_at_start = true;

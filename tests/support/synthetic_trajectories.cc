@@ -27,9 +27,8 @@ void advance_frame(const FieldCoefficients& c, double xi1, double xi2, double xi
 
 }  // namespace
 
-TrajectorySet make_ray_trajectories(const AirFieldModel& model, double xi1, double xi2,
-                                    double xi3, int n, std::uint64_t seed,
-                                    const std::string& object) {
+TrajectorySet make_ray_trajectories(const AirFieldModel& model, double xi1, double xi2, double xi3,
+                                    int n, std::uint64_t seed, const std::string& object) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> start(0.2, 0.58), angle(-kPi, kPi);
   TrajectorySet set;

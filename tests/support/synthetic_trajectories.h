@@ -13,9 +13,8 @@
 namespace airtwin::testing {
 
 /// n trajectories of `object` with eq. (8) coefficients (xi1, xi2, xi3), 81 frames each.
-TrajectorySet make_ray_trajectories(const AirFieldModel& model, double xi1, double xi2,
-                                    double xi3, int n, std::uint64_t seed,
-                                    const std::string& object);
+TrajectorySet make_ray_trajectories(const AirFieldModel& model, double xi1, double xi2, double xi3,
+                                    int n, std::uint64_t seed, const std::string& object);
 
 /// The same kind of motion as one speed-series CSV (`t,v,vair`): n objects one after the other,
 /// each starting at rest, with multiplicative Gaussian noise of relative size `noise` on v.

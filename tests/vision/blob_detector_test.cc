@@ -75,8 +75,8 @@ TEST(BlobDetector, NoiseAndBlurKeepEveryDiscAndNothingElse) {
   // threshold stays > 10 sigma from the floor; the centres move by a fraction of a pixel.
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     cv::Mat image = floor_image(300);
-    const std::vector<Eigen::Vector2d> centres = {{40.2, 50.7}, {150.5, 60.1}, {250.9, 240.3},
-                                                  {80.0, 200.4}};
+    const std::vector<Eigen::Vector2d> centres = {
+        {40.2, 50.7}, {150.5, 60.1}, {250.9, 240.3}, {80.0, 200.4}};
     const std::vector<double> radii = {5.2, 7.8, 5.2, 7.8};
     for (size_t i = 0; i < centres.size(); ++i) draw_disc(image, centres[i], radii[i]);
     degrade(image, 6.0, 1.0, seed);

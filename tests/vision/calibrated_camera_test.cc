@@ -45,8 +45,8 @@ CalibratedCamera rig_like_camera() {
 }
 
 std::string temp_path(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("airtwin_calibrated_camera_test_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("airtwin_calibrated_camera_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return (dir / name).string();
 }

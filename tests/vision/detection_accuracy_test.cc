@@ -14,12 +14,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
-#include <unistd.h>
 
 #include "renders/calibration_target.h"
 #include "renders/camera_model.h"
@@ -45,18 +45,18 @@ ObjectKind kind_of(const std::string& type) {
 std::vector<testing::TruthObject> twin_truth(const Twin& twin) {
   std::vector<testing::TruthObject> truth;
   for (size_t i = 0; i < twin.object_count(); ++i) {
-    truth.push_back({twin.object_state(i).p_W,
-                     twin.object(i).type == ObjectType::kTracer ? ObjectKind::kTracer
-                                                                : ObjectKind::kCotton});
+    truth.push_back({twin.object_state(i).p_W, twin.object(i).type == ObjectType::kTracer
+                                                   ? ObjectKind::kTracer
+                                                   : ObjectKind::kCotton});
   }
   return truth;
 }
 
 // One line of figures; false positives only for a score over every object of the frame.
 void report(const std::string& name, const testing::Score& s, bool whole_frame = true) {
-  std::printf("%-20s objects %4d detected %5.1f %% mean %.2f mm max %.2f mm wrong kind %d", name.c_str(),
-              s.objects, 100.0 * s.rate(), 1e3 * s.mean_error_m(), 1e3 * s.max_error_m,
-              s.wrong_kind);
+  std::printf("%-20s objects %4d detected %5.1f %% mean %.2f mm max %.2f mm wrong kind %d",
+              name.c_str(), s.objects, 100.0 * s.rate(), 1e3 * s.mean_error_m(),
+              1e3 * s.max_error_m, s.wrong_kind);
   if (whole_frame) std::printf(" false positives %d", s.false_positives);
   std::printf("\n");
   ::testing::Test::RecordProperty(name + "_rate", std::to_string(s.rate()));
@@ -271,13 +271,14 @@ TEST_F(DetectionAccuracy, TrackingObjectsBlownByTheJet) {
   }
   const TrackerCounters& c = tracker.counters();
   const double mean_velocity_error = velocity_error / std::max(1, velocity_samples);
-  std::printf("tracking: %d of %d object-frames in view detected, %d id changes, tracks %lld "
-              "(new %lld, lost %lld, left %lld), missed %lld, merged %lld, mean velocity error "
-              "%.3f m/s (fastest %.2f m/s)\n",
-              matched, visible, id_changes, static_cast<long long>(tracker.tracks().size()),
-              static_cast<long long>(c.new_tracks), static_cast<long long>(c.lost),
-              static_cast<long long>(c.left_view), static_cast<long long>(c.missed),
-              static_cast<long long>(c.merged), mean_velocity_error, fastest);
+  std::printf(
+      "tracking: %d of %d object-frames in view detected, %d id changes, tracks %lld "
+      "(new %lld, lost %lld, left %lld), missed %lld, merged %lld, mean velocity error "
+      "%.3f m/s (fastest %.2f m/s)\n",
+      matched, visible, id_changes, static_cast<long long>(tracker.tracks().size()),
+      static_cast<long long>(c.new_tracks), static_cast<long long>(c.lost),
+      static_cast<long long>(c.left_view), static_cast<long long>(c.missed),
+      static_cast<long long>(c.merged), mean_velocity_error, fastest);
   RecordProperty("velocity_error_mps", std::to_string(mean_velocity_error));
   EXPECT_EQ(id_changes, 0);
   EXPECT_GE(matched, 0.98 * visible);

@@ -23,7 +23,8 @@ namespace fs = std::filesystem;
 
 // A fresh folder under the temp dir for one test.
 std::string scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("airtwin_frame_source_" + std::to_string(::getpid())) / name;
+  const fs::path dir =
+      fs::temp_directory_path() / ("airtwin_frame_source_" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
@@ -139,8 +140,7 @@ TEST(FrameSource, UserErrorsAreInputErrorsNamingThePath) {
   // Missing path, empty folder, folder without images.
   EXPECT_NE(input_error([&] { FrameSource::open(dir + "/nothing"); }).find("no such file"),
             std::string::npos);
-  EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find("no image files"),
-            std::string::npos);
+  EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find("no image files"), std::string::npos);
   write_file(dir + "/readme.txt", "hello");
   EXPECT_NE(input_error([&] { FrameSource::open(dir); }).find(dir), std::string::npos);
   // A file that is no video.

@@ -13,8 +13,8 @@
 #include "common/errors.h"
 #include "renders/camera_model.h"
 #include "renders/frame_renderer.h"
-#include "tests/vision/twin_frames.h"
 #include "tests/vision/painted_shapes.h"
+#include "tests/vision/twin_frames.h"
 
 namespace airtwin {
 namespace {
@@ -131,8 +131,8 @@ TEST(ObjectDetector, TwinFrameSeparatedObjects) {
   const std::vector<Detection> ds = detector.detect(renderer.render(s.d(), 0));
   std::vector<testing::TruthObject> truth;
   for (size_t i = 0; i < objects.size(); ++i) {
-    truth.push_back({s.truth(i), objects[i].type == "tracer" ? ObjectKind::kTracer
-                                                             : ObjectKind::kCotton});
+    truth.push_back(
+        {s.truth(i), objects[i].type == "tracer" ? ObjectKind::kTracer : ObjectKind::kCotton});
   }
   const testing::Score score = testing::score(ds, truth);
   EXPECT_EQ(score.detected, 12);
@@ -153,7 +153,8 @@ TEST(ObjectDetector, TwinFramePackedTracersAndTouchingWads) {
   };
   const double g = 0.0302;
   add("tracer", 0.6, -0.5);
-  for (int q = 0; q < 6; ++q) add("tracer", 0.6 + g * std::cos(q * M_PI / 3), -0.5 + g * std::sin(q * M_PI / 3));
+  for (int q = 0; q < 6; ++q)
+    add("tracer", 0.6 + g * std::cos(q * M_PI / 3), -0.5 + g * std::sin(q * M_PI / 3));
   add("cotton", -0.5, 0.5);
   add("tracer", -0.5 + 0.036, 0.5);
   add("cotton", 0.4, 0.6);
@@ -164,8 +165,8 @@ TEST(ObjectDetector, TwinFramePackedTracersAndTouchingWads) {
   const std::vector<Detection> ds = detector.detect(renderer.render(s.d(), 0));
   std::vector<testing::TruthObject> truth;
   for (size_t i = 0; i < objects.size(); ++i) {
-    truth.push_back({s.truth(i), objects[i].type == "tracer" ? ObjectKind::kTracer
-                                                             : ObjectKind::kCotton});
+    truth.push_back(
+        {s.truth(i), objects[i].type == "tracer" ? ObjectKind::kTracer : ObjectKind::kCotton});
   }
   const testing::Score score = testing::score(ds, truth, 0.01);
   EXPECT_EQ(score.detected, static_cast<int>(objects.size()));

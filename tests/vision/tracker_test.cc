@@ -47,7 +47,8 @@ int id_near(const Tracker& tracker, const std::vector<Detection>& ds, const Eige
 
 TEST(Assignment, MatchesBruteForce) {
   RandomStream rng(5, RandomPurpose::kScenario, 1);
-  for (const auto& [rows, cols] : std::vector<std::pair<int, int>>{{5, 5}, {4, 6}, {6, 4}, {1, 3}}) {
+  for (const auto& [rows, cols] :
+       std::vector<std::pair<int, int>>{{5, 5}, {4, 6}, {6, 4}, {1, 3}}) {
     for (int trial = 0; trial < 20; ++trial) {
       Eigen::MatrixXd cost(rows, cols);
       for (int i = 0; i < rows; ++i) {
@@ -177,7 +178,9 @@ TEST(Tracker, CoastsThroughMissedFramesThenIsLost) {
   o.max_missed_frames = 8;
   Tracker tracker(o);
   const Eigen::Vector2d v(0.4, 0.0);  // 1 cm per frame
-  auto p = [&](int frame) -> Eigen::Vector2d { return Eigen::Vector2d(-0.3, 0.2) + v * frame * kDt; };
+  auto p = [&](int frame) -> Eigen::Vector2d {
+    return Eigen::Vector2d(-0.3, 0.2) + v * frame * kDt;
+  };
   // Seen for 10 frames, missing for 6, seen again: same track, 6 misses.
   int frame = 0;
   for (; frame < 10; ++frame) tracker.update(frame * kDt, {at(p(frame))});
@@ -237,7 +240,8 @@ TEST(Tracker, LeavingTheViewEndsTheTrackAtOnce) {
   const Eigen::Vector2d v(1.0, 0.0);
   int f = 0;
   // Moving right toward the image's edge (x = 1.35 m): detected up to x = 1.33 m.
-  for (; 0.9 + v.x() * f * kDt <= 1.33; ++f) tracker.update(f * kDt, {at({0.9 + v.x() * f * kDt, 0.0})});
+  for (; 0.9 + v.x() * f * kDt <= 1.33; ++f)
+    tracker.update(f * kDt, {at({0.9 + v.x() * f * kDt, 0.0})});
   EXPECT_EQ(tracker.tracks().size(), 1u);
   tracker.update(f * kDt, {});
   EXPECT_TRUE(tracker.tracks().empty());

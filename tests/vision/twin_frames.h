@@ -55,8 +55,8 @@ inline std::vector<ObjectSpec> scattered_layout(int n, int cotton_every, uint64_
     const int k = static_cast<int>(objects.size());
     std::string id = "o";
     id += std::to_string(k);
-    objects.push_back({id, cotton_every > 0 && k % cotton_every == 0 ? "cotton" : "tracer", p,
-                       std::nullopt});
+    objects.push_back(
+        {id, cotton_every > 0 && k % cotton_every == 0 ? "cotton" : "tracer", p, std::nullopt});
   }
   return objects;
 }
@@ -132,8 +132,8 @@ struct Score {
 };
 
 /// Matches detections to objects, closest pairs first, each at most once, within radius_m.
-inline Score score(const std::vector<Detection>& detections,
-                   const std::vector<TruthObject>& truth, double radius_m = 0.015) {
+inline Score score(const std::vector<Detection>& detections, const std::vector<TruthObject>& truth,
+                   double radius_m = 0.015) {
   struct Pair {
     double distance;
     size_t object, detection;
@@ -146,8 +146,9 @@ inline Score score(const std::vector<Detection>& detections,
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-    return a.distance != b.distance ? a.distance < b.distance
-                                    : std::tie(a.object, a.detection) < std::tie(b.object, b.detection);
+    return a.distance != b.distance
+               ? a.distance < b.distance
+               : std::tie(a.object, a.detection) < std::tie(b.object, b.detection);
   });
   std::vector<char> object_used(truth.size(), 0), detection_used(detections.size(), 0);
   Score s;
