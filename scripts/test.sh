@@ -1,32 +1,118 @@
 #!/usr/bin/env bash
-# The whole test suite, as CI runs it: installs what is missing, then
-#   1. Release build (-Wall -Wextra) and every test (label slurm too: docs/batch.md);
-#   2. AddressSanitizer + UndefinedBehaviorSanitizer build and the unit-labelled tests.
-# Usage: bash scripts/test.sh [--no-sanitize]
+# The test suite as CI runs it (the README's test command; docs/testing.md says what each stage
+# checks and what it costs). Installs what is missing, then:
+#   set-up          scripts/setup.sh
+#   release build   -Wall -Wextra, ccache when present
+#   unit tests      every unit-labelled test (ctest -L unit)
+#   closed loop     every shipped scenario in fast mode, 3 seeds each, and the octagon with vision
+#   discrepancy     hidden-effect discovery: every catalogue effect at a magnitude drawn from the
+#                   run's test seed (printed: AIRTWIN_TEST_SEED=N replays it), null data, a
+#                   closed-loop log; the twin's calibration against the paper
+#   format          clang-format on every C++ source (a check that fails, not a rewrite)
+#   sanitizer       AddressSanitizer + UndefinedBehaviorSanitizer build and its unit tests
+#   slurm           the batch as a job array on a one-node Slurm cluster
+# Ends with a table of each stage's wall time, also when a stage fails.
+# The many-seed sweeps are in scripts/acceptance.sh.
+# Usage: bash scripts/test.sh [--no-sanitize] [--no-slurm]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 sanitize=1
+slurm=1
 for arg in "$@"; do
   case "$arg" in
     --no-sanitize) sanitize=0 ;;
-    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
-    *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
+    --no-slurm) slurm=0 ;;
+    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (expected --no-sanitize, --no-slurm or --help)" >&2
+       exit 2 ;;
   esac
 done
 
 jobs=$(nproc 2>/dev/null || echo 2)
-bash scripts/setup.sh
+if [ -z "${AIRTWIN_TEST_SEED:-}" ]; then
+  AIRTWIN_TEST_SEED=$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')
+fi
+export AIRTWIN_TEST_SEED
 
-echo "== Release build and tests"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+# Stage bookkeeping: name, wall seconds, status; the table is printed on any exit.
+stage_names=()
+stage_secs=()
+stage_status=()
+current=""
+started=0
+t_all=$(date +%s)
+begin() {
+  current=$1
+  started=$(date +%s)
+  echo "== $current"
+}
+end() {
+  stage_names+=("$current")
+  stage_secs+=($(($(date +%s) - started)))
+  stage_status+=("${1:-ok}")
+  current=""
+}
+table() {
+  local status=$?
+  if [ -n "$current" ]; then end FAILED; fi
+  echo
+  echo "== stage wall times (test seed $AIRTWIN_TEST_SEED)"
+  printf '%-16s %8s  %s\n' stage seconds status
+  for i in "${!stage_names[@]}"; do
+    printf '%-16s %8d  %s\n' "${stage_names[$i]}" "${stage_secs[$i]}" "${stage_status[$i]}"
+  done
+  printf '%-16s %8d  %s\n' total $(($(date +%s) - t_all)) "$([ "$status" = 0 ] && echo ok || echo FAILED)"
+  if [ "$status" != 0 ]; then
+    echo "replay with: AIRTWIN_TEST_SEED=$AIRTWIN_TEST_SEED bash scripts/test.sh"
+  fi
+}
+trap table EXIT
+
+echo "test seed: AIRTWIN_TEST_SEED=$AIRTWIN_TEST_SEED (draws the hidden effects' magnitudes)"
+
+begin set-up
+bash scripts/setup.sh
+end
+
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+
+begin "release build"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 cmake --build build -j"$jobs"
-ctest --test-dir build -j"$jobs" --output-on-failure
+end
+
+begin "unit tests"
+ctest --test-dir build -j"$jobs" -L '^unit$' --output-on-failure
+end
+
+begin "closed loop"
+ctest --test-dir build -j"$jobs" -L '^closedloop$' --output-on-failure
+end
+
+begin discrepancy
+ctest --test-dir build -j"$jobs" -L '^(discrepancy|calibration)$' --output-on-failure
+end
+
+begin format
+bash scripts/check_format.sh
+end
 
 if [ "$sanitize" = 1 ]; then
-  echo "== ASan + UBSan build and unit tests"
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAIRTWIN_SANITIZE=ON -DAIRTWIN_BUILD_BENCH=OFF
+  begin "sanitizer build"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Sanitize -DAIRTWIN_SANITIZE=ON \
+    -DAIRTWIN_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
   cmake --build build-asan -j"$jobs"
+  end
+  begin "sanitizer tests"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan -j"$jobs" -L unit --output-on-failure
+    ctest --test-dir build-asan -j"$jobs" -L '^unit$' --output-on-failure
+  end
+fi
+
+if [ "$slurm" = 1 ]; then
+  begin slurm
+  ctest --test-dir build -L '^slurm$' --output-on-failure
+  end
 fi
