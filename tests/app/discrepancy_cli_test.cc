@@ -166,16 +166,19 @@ TEST(DiscrepancyCli, FindsNothingWithoutAnEffect) {
 }
 
 TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
+  // The line task (one tracer, 48 s of log, 40 windows) in air 15 % stronger than the model's:
+  // the controller overshoots and the run fails, and the log is all the analysis gets. The factor
+  // must come back within 20 % of its deviation from 1 (1.12-1.18).
   const std::string run = scratch_dir("discrepancy_closed_loop");
   const testing::CliResult c = run_airtwin(
       "run " + std::string(AIRTWIN_SOURCE_DIR) +
-      "/scenes/aggregation.yaml --seed 3 --quiet --effect field_scale:factor=1.3 --out " + run);
+      "/scenes/line.yaml --seed 3 --quiet --effect field_scale:factor=1.15 --out " + run);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_closed_loop_blind");
   std::ofstream(blind + "/log.csv") << read_file(run + "/log.csv");
   const json r = analyse(blind + "/log.csv", scratch_dir("discrepancy_closed_loop_out"));
   ASSERT_EQ(r["found"], json::array({"field_scale"})) << r.dump(1);
-  EXPECT_NEAR(r["extensions"]["field_scale"]["factor"].get<double>(), 1.3, 0.2 * 1.3);
+  EXPECT_NEAR(r["extensions"]["field_scale"]["factor"].get<double>(), 1.15, 0.2 * 0.15);
 }
 
 TEST(DiscrepancyCli, SaysWhatCannotBeDecided) {
