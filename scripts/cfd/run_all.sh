@@ -99,8 +99,10 @@ commit_case() {
 }
 
 solve() {
-  local t0 t1 pid
+  local name="$1" t0 t1 pid
   rm -rf "$case_dir"/processor* "$case_dir"/[1-9]* "$case_dir/postProcessing" "$case_dir/log.simpleFoam"
+  # the initial and boundary fields from the current generator (a resumed case may have older ones)
+  "$py" "$here/cfdcase.py" fields "$name" "$case_dir" >/dev/null || return 1
   t0=$(date +%s)
   if [ "$np" = 2 ]; then
     run_tool decomposePar decomposePar -force || return 1
@@ -151,7 +153,7 @@ run_case() {
     touch "$case_dir/.meshed"
   fi
   if [ ! -f "$case_dir/.solved" ]; then
-    solve || return 1
+    solve "$name" || return 1
   fi
   echo "$tag: sampling"
   rm -rf "$case_dir/postProcessing"
