@@ -32,8 +32,10 @@ EPS_AMB = 1e-3
 ROD_LEN = 0.15            # solid rod behind the exit (m)
 END_ITER = 2000           # iteration cap; the solver stops earlier on residualControl
 RAMP_ITER = 100           # the inlet speed ramps linearly over the first iterations...
-RAMP_FROM = 0.1           # ...from this fraction of its value: an impulsive 60 m/s start blew k up
-                          # near the nozzle's lip at 45 deg (k ~ 8000 m^2/s^2, the jet gone 0.3 m on)
+RAMP_FROM = 0.1           # ...from this fraction of its value, the inlet k and epsilon with it (as U^2,
+                          # U^3): at full inlet k at once, the nozzle lip's cell at 45 deg took k ~ 10
+                          # m^2/s^2 while its wall-function epsilon still followed the ambient k, nu_t
+                          # reached 1e3 m^2/s and the velocity 9e3 m/s within 3 iterations
 RESIDUAL = 1e-4
 
 # shipped floor grid: 1 cm pitch, x in [-1.5, 1.5], y in [0, 1.5] (row 0 at 0.5 mm, off the symmetry plane)
@@ -495,6 +497,13 @@ def count_cells(mesh_dir):
     return int(m.group(1)) if m else None
 
 
+def ramp_table(value):
+    """Function1 table entries over the inlet ramp: value(f) at f = RAMP_FROM .. 1, 11 points."""
+    n = 10
+    return " ".join("(%d %s)" % (round(RAMP_ITER * i / n), value(RAMP_FROM + (1.0 - RAMP_FROM) * i / n))
+                    for i in range(n + 1))
+
+
 def cmd_fields(name, case_dir):
     case = find_case(name)
     g = Geo(case)
@@ -517,8 +526,8 @@ def cmd_fields(name, case_dir):
     write_file(os.path.join(zero, "U"), "volVectorField", "U",
                "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
                "    rod_inlet\n    {\n        type uniformFixedValue;\n"
-               "        uniformValue table ((0 %s) (%d %s));\n        value uniform %s;\n    }\n"
-               % (v3(RAMP_FROM * uvec), RAMP_ITER, v3(uvec), v3(RAMP_FROM * uvec))
+               "        uniformValue table (%s);\n        value uniform %s;\n    }\n"
+               % (ramp_table(lambda f: v3(f * uvec)), v3(RAMP_FROM * uvec))
                + common_walls % ("noSlip", "") + sym +
                "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
                "        value uniform (0 0 0);\n    }\n}\n")
@@ -527,12 +536,15 @@ def cmd_fields(name, case_dir):
                "    \"(rod_inlet|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" + sym +
                "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
                "        value uniform 0;\n    }\n}\n")
-    for fld, dims, inl, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_in, K_AMB, "kqRWallFunction"),
-                                    ("epsilon", "[0 2 -3 0 0 0 0]", eps_in, EPS_AMB, "epsilonWallFunction")):
+    for fld, dims, inl, pw, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_in, 2, K_AMB, "kqRWallFunction"),
+                                        ("epsilon", "[0 2 -3 0 0 0 0]", eps_in, 3, EPS_AMB,
+                                         "epsilonWallFunction")):
         write_file(os.path.join(zero, fld), "volScalarField", fld,
                    "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
-                   "    rod_inlet\n    {\n        type fixedValue;\n        value uniform %.9g;\n    }\n"
-                   % (dims, amb, inl)
+                   "    rod_inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+                   "        value uniform %.9g;\n    }\n"
+                   % (dims, amb, ramp_table(lambda f, inl=inl, pw=pw: "%.9g" % (inl * f ** pw)),
+                      inl * RAMP_FROM ** pw)
                    + common_walls % (wf, "        value uniform %g;\n" % amb) + sym +
                    "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
                    "        value uniform %g;\n    }\n}\n" % (amb, amb))
