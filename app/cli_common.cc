@@ -68,4 +68,16 @@ NoiseLevel parse_noise(const std::string& level) {
   throw UsageError("--noise: expected none, low or high, got '" + level + "'");
 }
 
+std::vector<Effect> apply_effect_flags(const std::vector<std::string>& texts,
+                                       TwinParameters* twin) {
+  try {
+    std::vector<Effect> effects;
+    for (const std::string& text : texts) effects.push_back(parse_effect(text));
+    apply_effects(effects, twin);
+    return effects;
+  } catch (const InputError& e) {
+    throw UsageError(std::string("--effect: ") + e.what());
+  }
+}
+
 }  // namespace airtwin::cli

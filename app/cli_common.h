@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/effects.h"
+
 namespace airtwin::cli {
 
 /// Parses "X,Y" (two finite numbers) for flag `flag`; throws UsageError naming the flag.
@@ -31,5 +33,9 @@ struct NoiseLevel {
   double blur_sigma_px = 0.0;
 };
 NoiseLevel parse_noise(const std::string& level);
+
+/// The effects of the repeatable --effect flag, parsed and applied to `twin` in order; the
+/// library's error becomes a UsageError naming --effect.
+std::vector<Effect> apply_effect_flags(const std::vector<std::string>& texts, TwinParameters* twin);
 
 }  // namespace airtwin::cli

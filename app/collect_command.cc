@@ -31,9 +31,7 @@ struct CollectArgs {
 void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
   o.tilts_rad = parse_degree_list(a.tilts, "--tilts");
-  std::vector<Effect> effects;
-  for (const std::string& text : a.effects) effects.push_back(parse_effect(text));
-  apply_effects(effects, &o.twin);
+  const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   o.validate();
   const AirFieldModel field = a.table.empty()
                                   ? AirFieldModel::with_default_table()
@@ -90,7 +88,7 @@ void add_collect_command(CLI::App& app) {
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "
                   "NAME:key=value,...; repeatable. Effects:\n" +
-                      effect_catalogue());
+                      effect_help());
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run_collect(*args); });
 }

@@ -45,7 +45,8 @@ void check_run_setup_flags(const RunSetupFlags& f) {
         std::fabs(frames_per_detection - std::round(frames_per_detection)) < 1e-9)) {
     throw UsageError("--vision-rate must divide the camera's 40 Hz (40, 20, 10, 8, 5, ...)");
   }
-  for (const std::string& text : f.effects) parse_effect(text);
+  TwinParameters scratch;
+  apply_effect_flags(f.effects, &scratch);
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) {
@@ -56,9 +57,7 @@ AirFieldModel field_model_of(const RunSetupFlags& f) {
 ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   ScenarioRunOptions options;
   // The twin's physics with the effects switched on.
-  std::vector<Effect> effects;
-  for (const std::string& text : f.effects) effects.push_back(parse_effect(text));
-  apply_effects(effects, &options.twin);
+  apply_effect_flags(f.effects, &options.twin);
   // The dynamics the controller plans with, per object type.
   for (const std::string& path : f.models) {
     std::ifstream in(path);

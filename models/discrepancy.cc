@@ -298,13 +298,13 @@ struct FitBox {
 };
 
 FitBox fit_box(const std::string& name) {
-  const ExtensionSpec& spec = find_extension(name);
+  const EffectSpec& spec = find_effect(name);
   FitBox box;
   if (name == "floor_slope") {
     const double m = spec.params[0].fit_max;
     return {{-m, -m}, {m, m}};
   }
-  for (const ExtensionParameter& p : spec.params) {
+  for (const EffectParameter& p : spec.params) {
     box.lo.push_back(p.fit_min);
     box.hi.push_back(p.fit_max);
   }
@@ -312,7 +312,7 @@ FitBox fit_box(const std::string& name) {
 }
 
 std::vector<double> typed_from_fit(const std::string& name, const double* x) {
-  const size_t n = find_extension(name).params.size();
+  const size_t n = find_effect(name).params.size();
   if (name == "floor_slope") {
     return {std::hypot(x[0], x[1]), rad_to_deg(std::atan2(x[1], x[0]))};
   }
@@ -356,7 +356,7 @@ ModelExtensions apply_fit(const ModelExtensions& base, const std::vector<std::st
       clamped[i] = std::clamp(x[at + i], box.lo[i], box.hi[i]);
     }
     std::vector<double> typed = typed_from_fit(name, clamped.data());
-    const ExtensionSpec& spec = find_extension(name);
+    const EffectSpec& spec = find_effect(name);
     for (size_t i = 0; i < typed.size(); ++i) {
       typed[i] = std::clamp(typed[i], spec.params[i].min, spec.params[i].max);
     }
@@ -707,7 +707,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
                            "tilt cannot be checked.");
   }
   std::vector<std::string> names;
-  for (const ExtensionSpec& e : extension_catalogue()) {
+  for (const EffectSpec& e : effect_catalogue()) {
     if (std::string(e.name) == "response_delay" && !any_change) {
       report.notes.push_back(
           "response_delay cannot be decided: no window records a change of the nozzle command "
@@ -842,7 +842,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   auto num = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
   auto candidate = [&](const CandidateResult& c) {
     Json params = Json::object();
-    const ExtensionSpec& spec = find_extension(c.name);
+    const EffectSpec& spec = find_effect(c.name);
     for (size_t i = 0; i < c.params.size(); ++i) params[spec.params[i].key] = c.params[i];
     return Json{{"name", c.name},
                 {"params", params},
@@ -871,7 +871,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   j["notes"] = r.notes;
   Json ext = Json::object();
   for (const std::string& name : r.found) {
-    const ExtensionSpec& spec = find_extension(name);
+    const EffectSpec& spec = find_effect(name);
     const std::vector<double> v = extension_values(r.extensions, name);
     Json params = Json::object();
     for (size_t i = 0; i < v.size(); ++i) params[spec.params[i].key] = v[i];
@@ -981,7 +981,7 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
   } else {
     md += "Found, in order:\n\n";
     for (const std::string& f : r.found) {
-      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_extension(f).cause + ".\n";
+      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_effect(f).cause + ".\n";
     }
     md += "\n";
   }

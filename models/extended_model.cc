@@ -39,7 +39,7 @@ std::string extended_model_json(const ExtendedModel& m) {
                           {"transit_delay_s", m.nozzle.transit_delay_s}};
   Json ext = Json::object();
   for (const std::string& name : active_extensions(m.extensions)) {
-    const ExtensionSpec& spec = find_extension(name);
+    const EffectSpec& spec = find_effect(name);
     const std::vector<double> v = extension_values(m.extensions, name);
     Json params = Json::object();
     for (size_t i = 0; i < v.size(); ++i) params[spec.params[i].key] = v[i];
@@ -95,20 +95,20 @@ ExtendedModel parse_extended_model_json(const std::string& text, const std::stri
   }
   for (const auto& [name, params] : j["extensions"].items()) {
     const std::string where = source + ": extensions." + name;
-    const ExtensionSpec* spec = nullptr;
+    const EffectSpec* spec = nullptr;
     try {
-      spec = &find_extension(name);
+      spec = &find_effect(name);
     } catch (const InputError& e) {
       throw InputError(where + ": " + e.what());
     }
     if (!params.is_object()) throw InputError(where + ": expected an object of parameters");
     for (const auto& [key, value] : params.items()) {
       bool known = false;
-      for (const ExtensionParameter& p : spec->params) known = known || key == p.key;
+      for (const EffectParameter& p : spec->params) known = known || key == p.key;
       if (!known) throw InputError(where + ": unknown parameter '" + key + "'");
     }
     std::vector<double> v;
-    for (const ExtensionParameter& p : spec->params) v.push_back(number_at(params, p.key, where));
+    for (const EffectParameter& p : spec->params) v.push_back(number_at(params, p.key, where));
     try {
       set_extension_values(&m.extensions, name, v);
     } catch (const InputError& e) {

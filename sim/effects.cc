@@ -12,135 +12,38 @@
 namespace airtwin {
 namespace {
 
-// One parameter of an effect: its typed name and unit, default, and the closed or open range.
-struct ParameterSpec {
-  const char* key;
-  const char* unit;
-  double default_value;
-  double min, max;
-  bool min_open;  // (min, max] instead of [min, max]
-};
-
-struct EffectSpec {
-  const char* name;
-  const char* what;
-  std::vector<ParameterSpec> params;
-};
-
-// The catalogue (docs/twin.md, "Effects"): defaults are realistic magnitudes for the rig.
-const std::vector<EffectSpec>& catalogue() {
-  static const std::vector<EffectSpec> effects = {
-      {"pressure_gradient",
-       "extra outward push near s, peak acceleration `strength` at r = length / sqrt(2)",
-       {{"strength", "m/s^2", 4.0, 0.0, 50.0, false}, {"length", "m", 0.15, 0.0, 1.0, true}}},
-      {"response_delay",
-       "the field follows the nozzle tau_s later (on top of the default 0.2 s)",
-       {{"tau_s", "s", 0.3, 0.0, 5.0, false}}},
-      {"flow_deflection",
-       "air turned from radial by angle_deg (counter-clockwise +), same speed",
-       {{"angle_deg", "deg", 15.0, -90.0, 90.0, false}}},
-      {"quadratic_drag",
-       "extra drag acceleration coefficient |u_rel| u_rel, u_rel = u_air - v",
-       {{"coefficient", "1/m", 0.5, 0.0, 20.0, false}}},
-      {"floor_slope",
-       "floor tilted by angle_deg, downhill toward direction_deg (from +x, CCW)",
-       {{"angle_deg", "deg", 2.0, 0.0, 30.0, false},
-        {"direction_deg", "deg", 0.0, -360.0, 360.0, false}}},
-      {"stiction",
-       "static / kinetic friction ratio of every object (replaces 1.2 / 1.3)",
-       {{"ratio", "", 2.0, 1.0, 10.0, false}}},
-      {"nozzle_offset",
-       "servo calibration bias: the nozzle turns to command + offset",
-       {{"pan_deg", "deg", 3.0, -30.0, 30.0, false}, {"tilt_deg", "deg", 2.0, -10.0, 10.0, false}}},
-      {"field_scale",
-       "air speed times factor (stagnation pressure times factor^2)",
-       {{"factor", "", 1.2, 0.0, 3.0, true}}},
-  };
-  return effects;
-}
-
 std::string number(double x) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.9g", x);
   return buffer;
 }
 
-std::string valid_names() {
-  std::string names;
-  for (const EffectSpec& e : catalogue()) {
-    if (!names.empty()) names += ", ";
-    names += e.name;
-  }
-  return names;
-}
-
-std::string valid_keys(const EffectSpec& e) {
-  std::string keys;
-  for (const ParameterSpec& p : e.params) {
-    if (!keys.empty()) keys += ", ";
-    keys += p.key;
-  }
-  return keys;
-}
-
-std::string range_text(const ParameterSpec& p) {
-  std::string text = p.min_open ? "(" : "[";
-  text += number(p.min);
-  text += ", ";
-  text += number(p.max);
-  text += ']';
-  if (p.unit[0] != '\0') {
-    text += ' ';
-    text += p.unit;
-  }
-  return text;
-}
-
-const EffectSpec& find_effect(const std::string& name, const std::string& where) {
-  for (const EffectSpec& e : catalogue()) {
-    if (name == e.name) return e;
-  }
-  throw UsageError(where + ": unknown effect '" + name + "'; valid effects: " + valid_names());
-}
-
-const ParameterSpec& find_parameter(const EffectSpec& e, const std::string& key,
-                                    const std::string& where) {
-  for (const ParameterSpec& p : e.params) {
-    if (key == p.key) return p;
-  }
-  throw UsageError(where + ": effect " + e.name + " has no parameter '" + key +
-                   "'; its parameters: " + valid_keys(e));
-}
-
-// The typed value of `p`, checked to be finite and in range.
-void check_value(const EffectSpec& e, const ParameterSpec& p, double value,
-                 const std::string& where) {
-  const bool above = p.min_open ? value > p.min : value >= p.min;
-  if (!(std::isfinite(value) && above && value <= p.max)) {
-    throw UsageError(where + ": " + e.name + "." + p.key + " must be a finite number in " +
-                     range_text(p) + ", got " + number(value));
+// Runs `f`, prefixing any InputError's message with `where`.
+template <typename F>
+auto located(const std::string& where, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
   }
 }
 
-// Every parameter of `effect` resolved (typed or default), checked, in catalogue order.
+// Every parameter of `effect` resolved (typed or the catalogue's example), checked, in catalogue
+// order.
 std::vector<double> resolve(const Effect& effect) {
-  const std::string where = "--effect " + effect.name;
-  const EffectSpec& spec = find_effect(effect.name, where);
+  const std::string where = "effect " + effect.name;
+  const EffectSpec& spec =
+      located(where, [&]() -> const EffectSpec& { return find_effect(effect.name); });
   std::vector<double> values;
+  for (const EffectParameter& p : spec.params) values.push_back(p.example);
   std::set<std::string> seen;
   for (const auto& [key, value] : effect.params) {
-    const ParameterSpec& p = find_parameter(spec, key, where);
+    const size_t i = located(where, [&] { return effect_parameter_index(spec, key); });
     if (!seen.insert(key).second) {
-      throw UsageError(where + ": parameter '" + key + "' is given twice");
+      throw InputError(where + ": parameter '" + key + "' is given twice");
     }
-    check_value(spec, p, value, where);
-  }
-  for (const ParameterSpec& p : spec.params) {
-    double value = p.default_value;
-    for (const auto& [key, typed] : effect.params) {
-      if (key == p.key) value = typed;
-    }
-    values.push_back(value);
+    located(where, [&] { check_effect_value(spec, spec.params[i], value); });
+    values[i] = value;
   }
   return values;
 }
@@ -152,18 +55,26 @@ std::string trim(const std::string& s) {
   return s.substr(begin, end - begin + 1);
 }
 
+std::string keys_of(const EffectSpec& spec) {
+  std::string keys;
+  for (const EffectParameter& p : spec.params)
+    keys += (keys.empty() ? "" : ", ") + std::string(p.key);
+  return keys;
+}
+
 }  // namespace
 
 Effect parse_effect(const std::string& text) {
-  const std::string where = "--effect '" + text + "'";
+  const std::string where = "effect '" + text + "'";
   Effect effect;
   const size_t colon = text.find(':');
   effect.name = trim(text.substr(0, colon));
   if (effect.name.empty()) {
-    throw UsageError(where +
-                     ": expected NAME or NAME:key=value,...; valid effects: " + valid_names());
+    throw InputError(where +
+                     ": expected NAME or NAME:key=value,...; valid effects: " + effect_names());
   }
-  const EffectSpec& spec = find_effect(effect.name, where);
+  const EffectSpec& spec =
+      located(where, [&]() -> const EffectSpec& { return find_effect(effect.name); });
   if (colon != std::string::npos) {
     // key=value pairs, comma-separated; every value a whole finite number.
     const std::string list = text.substr(colon + 1);
@@ -174,23 +85,24 @@ Effect parse_effect(const std::string& text) {
       const std::string item = trim(list.substr(start, comma - start));
       const size_t equals = item.find('=');
       if (equals == std::string::npos) {
-        throw UsageError(where + ": expected key=value after '" + effect.name + ":', got '" + item +
-                         "'; parameters of " + effect.name + ": " + valid_keys(spec));
+        throw InputError(where + ": expected key=value after '" + effect.name + ":', got '" + item +
+                         "'; parameters of " + effect.name + ": " + keys_of(spec));
       }
       const std::string key = trim(item.substr(0, equals));
       const std::string value_text = trim(item.substr(equals + 1));
-      const ParameterSpec& p = find_parameter(spec, key, where);
+      const size_t i = located(where, [&] { return effect_parameter_index(spec, key); });
+      const EffectParameter& p = spec.params[i];
       if (!seen.insert(key).second) {
-        throw UsageError(where + ": parameter '" + key + "' of " + effect.name + " is given twice");
+        throw InputError(where + ": parameter '" + key + "' of " + effect.name + " is given twice");
       }
       errno = 0;
       char* end = nullptr;
       const double value = std::strtod(value_text.c_str(), &end);
       if (value_text.empty() || end != value_text.c_str() + value_text.size() || errno == ERANGE) {
-        throw UsageError(where + ": " + effect.name + "." + key + " must be a finite number in " +
-                         range_text(p) + ", got '" + value_text + "'");
+        throw InputError(where + ": " + effect.name + "." + key + " must be a finite number in " +
+                         effect_range_text(p) + ", got '" + value_text + "'");
       }
-      check_value(spec, p, value, where);
+      located(where, [&] { check_effect_value(spec, p, value); });
       effect.params.emplace_back(key, value);
       if (comma == std::string::npos) break;
       start = comma + 1;
@@ -200,30 +112,22 @@ Effect parse_effect(const std::string& text) {
 }
 
 double effect_parameter(const Effect& effect, const std::string& key) {
-  const std::string where = "--effect " + effect.name;
-  const EffectSpec& spec = find_effect(effect.name, where);
-  find_parameter(spec, key, where);
   const std::vector<double> values = resolve(effect);
-  for (size_t i = 0; i < spec.params.size(); ++i) {
-    if (key == spec.params[i].key) return values[i];
-  }
-  AIRTWIN_DEMAND(false);
-  return 0.0;
+  const EffectSpec& spec = find_effect(effect.name);
+  return values[located("effect " + effect.name,
+                        [&] { return effect_parameter_index(spec, key); })];
 }
 
 std::string effect_to_string(const Effect& effect) {
-  const EffectSpec& spec = find_effect(effect.name, "--effect " + effect.name);
+  const std::vector<double> values = resolve(effect);
+  const EffectSpec& spec = find_effect(effect.name);
   std::string out = effect.name;
   for (size_t i = 0; i < spec.params.size(); ++i) {
-    double value = spec.params[i].default_value;
-    for (const auto& [key, typed] : effect.params) {
-      if (key == spec.params[i].key) value = typed;
-    }
     // Appended piece by piece: GCC 12 -O3 reports a false -Wrestrict on "x" + std::string.
     out += i == 0 ? ':' : ',';
     out += spec.params[i].key;
     out += '=';
-    out += number(value);
+    out += number(values[i]);
   }
   return out;
 }
@@ -231,62 +135,67 @@ std::string effect_to_string(const Effect& effect) {
 void apply_effect(const Effect& effect, TwinParameters* params) {
   AIRTWIN_DEMAND(params != nullptr);
   const std::vector<double> v = resolve(effect);
-  const std::string& name = effect.name;
   // Each effect sets the SI fields that carry it (sim/air_forces.h, nozzle_actuator.h,
   // scene_spec.h); degrees are converted here, at the edge.
-  if (name == "pressure_gradient") {
-    params->air.extra_push_mps2 = v[0];
-    params->air.extra_push_length_m = v[1];
-  } else if (name == "response_delay") {
-    params->nozzle.field_delay_s += v[0];
-  } else if (name == "flow_deflection") {
-    params->air.flow_deflection_rad = deg_to_rad(v[0]);
-  } else if (name == "quadratic_drag") {
-    params->air.quadratic_drag_per_m = v[0];
-  } else if (name == "floor_slope") {
-    params->scene.floor_slope_rad = deg_to_rad(v[0]);
-    params->scene.floor_slope_direction_rad = deg_to_rad(v[1]);
-  } else if (name == "stiction") {
-    params->scene.tracer.static_friction_ratio = v[0];
-    params->scene.cotton.static_friction_ratio = v[0];
-  } else if (name == "nozzle_offset") {
-    params->nozzle.pan_offset_rad = deg_to_rad(v[0]);
-    params->nozzle.tilt_offset_rad = deg_to_rad(v[1]);
-  } else if (name == "field_scale") {
-    params->air.field_scale = v[0];
-  } else {
-    AIRTWIN_DEMAND(false);  // resolve() accepted a name the catalogue does not apply
+  switch (find_effect(effect.name).id) {
+    case EffectId::kPressureGradient:
+      params->air.extra_push_mps2 = v[0];
+      params->air.extra_push_length_m = v[1];
+      return;
+    case EffectId::kResponseDelay:
+      params->nozzle.field_delay_s += v[0];
+      return;
+    case EffectId::kFlowDeflection:
+      params->air.flow_deflection_rad = deg_to_rad(v[0]);
+      return;
+    case EffectId::kQuadraticDrag:
+      params->air.quadratic_drag_per_m = v[0];
+      return;
+    case EffectId::kFloorSlope:
+      params->scene.floor_slope_rad = deg_to_rad(v[0]);
+      params->scene.floor_slope_direction_rad = deg_to_rad(v[1]);
+      return;
+    case EffectId::kStiction:
+      params->scene.tracer.static_friction_ratio = v[0];
+      params->scene.cotton.static_friction_ratio = v[0];
+      return;
+    case EffectId::kNozzleOffset:
+      params->nozzle.pan_offset_rad = deg_to_rad(v[0]);
+      params->nozzle.tilt_offset_rad = deg_to_rad(v[1]);
+      return;
+    case EffectId::kFieldScale:
+      params->air.field_scale = v[0];
+      return;
   }
+  AIRTWIN_DEMAND(false);
 }
 
 void apply_effects(const std::vector<Effect>& effects, TwinParameters* params) {
   std::set<std::string> names;
   for (const Effect& e : effects) {
     if (!names.insert(e.name).second) {
-      throw UsageError("--effect " + e.name +
-                       " is given twice; combine its parameters in one "
-                       "--effect " +
+      throw InputError("effect " + e.name + " is given twice; combine its parameters in one " +
                        e.name + ":key=value,...");
     }
   }
   for (const Effect& e : effects) apply_effect(e, params);
 }
 
-std::string effect_catalogue() {
+std::string effect_help() {
   std::string out;
-  for (const EffectSpec& e : catalogue()) {
+  for (const EffectSpec& e : effect_catalogue()) {
     std::string line = "  " + std::string(e.name);
     line.resize(20, ' ');
     for (size_t i = 0; i < e.params.size(); ++i) {
-      const ParameterSpec& p = e.params[i];
+      const EffectParameter& p = e.params[i];
       if (i > 0) line += ", ";
       line += p.key;
       line += '=';
-      line += number(p.default_value);
+      line += number(p.example);
       line += ' ';
-      line += range_text(p);
+      line += effect_range_text(p);
     }
-    line += ": " + std::string(e.what) + "\n";
+    line += ": " + std::string(e.twin) + "\n";
     out += line;
   }
   return out;

@@ -51,7 +51,8 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --tilts 0,abc --out x.csv", "--tilts");
   expect_usage_error("collect --per-tilt 0 --out x.csv", "--per-tilt");
   expect_usage_error("collect --wait -1 --out x.csv", "--wait");
-  expect_usage_error("collect --effect warp --out x.csv", "unknown effect 'warp'");
+  expect_usage_error("collect --effect warp --out x.csv",
+                     "--effect: effect 'warp': unknown effect 'warp'");
   expect_usage_error("collect --effect stiction:ratio=0.5 --out x.csv", "stiction.ratio");
   expect_usage_error("collect", "--out");
   expect_usage_error("calibrate-dynamics --iterations 0 --out x.json", "--iterations");

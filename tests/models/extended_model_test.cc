@@ -47,7 +47,7 @@ TEST(ExtendedModel, BadFilesNameWhatIsWrong) {
   EXPECT_NE(error_of("not json").find("m.json: not JSON"), std::string::npos);
   std::string t = good;
   t.replace(t.find("field_scale"), 11, "field_scalf");
-  EXPECT_NE(error_of(t).find("unknown model extension 'field_scalf'"), std::string::npos);
+  EXPECT_NE(error_of(t).find("unknown effect 'field_scalf'"), std::string::npos);
   t = good;
   t.replace(t.find("\"factor\": 1.2"), 13, "\"factor\": -1");
   EXPECT_NE(error_of(t).find("field_scale.factor"), std::string::npos) << error_of(t);

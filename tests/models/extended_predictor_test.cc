@@ -246,7 +246,9 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
       predictor.predict(xi[j], ext, timeline, starts[j], times, &one);
       EXPECT_EQ(ends[j], one[0]) << "object " << j << " at " << t_end << " s";
     }
-    if (t_end > 1.0) EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
+    if (t_end > 1.0) {
+      EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
+    }
   }
   std::vector<Eigen::Vector2d> two(2);
   const std::vector<WindowStart> apart = {{0.0, {0.5, 0.2}, {0.0, 0.0}},

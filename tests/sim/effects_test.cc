@@ -22,12 +22,13 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Parsing.
 
-// Expects parse_effect(text) to throw a UsageError whose message contains every one of `parts`.
+// Expects parse_effect(text) to throw an InputError whose message contains every one of `parts`
+// (the library names the text, not a flag: app/ adds "--effect").
 void expect_usage_error(const std::string& text, std::initializer_list<std::string> parts) {
   try {
     parse_effect(text);
-    ADD_FAILURE() << "no UsageError for '" << text << "'";
-  } catch (const UsageError& e) {
+    ADD_FAILURE() << "no InputError for '" << text << "'";
+  } catch (const InputError& e) {
     const std::string what = e.what();
     for (const std::string& p : parts) {
       EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' missing from: " << what;
@@ -63,7 +64,7 @@ TEST(ParseEffect, KeyValuesAsTyped) {
 
 TEST(ParseEffect, UnknownNamesAndParametersListTheValidOnes) {
   expect_usage_error("field_scael:factor=1.3",
-                     {"--effect 'field_scael:factor=1.3'", "unknown effect 'field_scael'",
+                     {"effect 'field_scael:factor=1.3'", "unknown effect 'field_scael'",
                       "field_scale", "pressure_gradient", "nozzle_offset"});
   expect_usage_error("floor_slope:angel_deg=3",
                      {"floor_slope", "no parameter 'angel_deg'", "angle_deg, direction_deg"});
@@ -76,12 +77,13 @@ TEST(ParseEffect, UnknownNamesAndParametersListTheValidOnes) {
 TEST(ParseEffect, ValuesMustBeFiniteNumbersInRange) {
   for (const char* bad : {"nan", "NaN", "inf", "-inf", "1e999", "", "1.3x", "x", "0x"}) {
     const std::string text = std::string("field_scale:factor=") + bad;
-    expect_usage_error(text, {"field_scale", "factor", "must be a finite number in (0, 3]"});
+    expect_usage_error(text, {"field_scale", "factor", "must be a finite number in [0.05, 3]"});
   }
   expect_usage_error("stiction:ratio=0.5", {"stiction.ratio", "[1, 10]", "got 0.5"});
   expect_usage_error("floor_slope:angle_deg=45", {"floor_slope.angle_deg", "[0, 30] deg"});
   expect_usage_error("response_delay:tau_s=-0.1", {"response_delay.tau_s", "[0, 5] s"});
-  expect_usage_error("field_scale:factor=0", {"(0, 3]"});
+  expect_usage_error("field_scale:factor=0", {"[0.05, 3]"});
+  expect_usage_error("pressure_gradient:length=0", {"pressure_gradient.length", "[0.01, 1] m"});
   EXPECT_NO_THROW(parse_effect("field_scale:factor=3"));
 }
 
@@ -90,24 +92,24 @@ TEST(ParseEffect, DuplicatesAreRejected) {
   TwinParameters p;
   EXPECT_THROW(
       apply_effects({parse_effect("field_scale"), parse_effect("field_scale:factor=2")}, &p),
-      UsageError);
+      InputError);
   // An Effect built in code is checked the same way.
   Effect e{"stiction", {{"ratio", 2.0}, {"ratio", 3.0}}};
-  EXPECT_THROW(apply_effect(e, &p), UsageError);
+  EXPECT_THROW(apply_effect(e, &p), InputError);
   e = Effect{"stiction", {{"ratio", std::nan("")}}};
-  EXPECT_THROW(apply_effect(e, &p), UsageError);
+  EXPECT_THROW(apply_effect(e, &p), InputError);
 }
 
 TEST(EffectCatalogue, OneLinePerEffectWithUnitsAndDefaults) {
-  const std::string text = effect_catalogue();
+  const std::string text = effect_help();
   int lines = 0;
   for (char c : text) lines += c == '\n';
   EXPECT_EQ(lines, 8);
   for (const char* needle :
-       {"pressure_gradient", "strength=4 [0, 50] m/s^2", "length=0.15 (0, 1] m", "response_delay",
-        "tau_s=0.3", "flow_deflection", "angle_deg=15", "quadratic_drag", "coefficient=0.5", "1/m",
-        "floor_slope", "direction_deg=0", "stiction", "ratio=2", "nozzle_offset", "pan_deg=3",
-        "tilt_deg=2", "field_scale", "factor=1.2"}) {
+       {"pressure_gradient", "strength=4 [0, 50] m/s^2", "length=0.15 [0.01, 1] m",
+        "response_delay", "tau_s=0.3", "flow_deflection", "angle_deg=15", "quadratic_drag",
+        "coefficient=0.5", "1/m", "floor_slope", "direction_deg=0", "stiction", "ratio=2",
+        "nozzle_offset", "pan_deg=3", "tilt_deg=2", "field_scale", "factor=1.2"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle << " missing from\n" << text;
   }
 }

@@ -1,0 +1,91 @@
+#pragma once
+// The catalogue of physical effects that the controller's model (eqs. 1-3 and 8-9) lacks, each
+// defined once, here: its name, its parameters (typed unit, the value the twin takes when the
+// effect is named without values, the value that switches it off, the physical range, where the
+// discrepancy analysis searches), the size below which it is negligible, and one line of physics.
+// Three users read this table and nothing else about an effect's identity:
+//   - the twin injects an effect (sim/effects.h: how it perturbs the simulation);
+//   - the extended model predicts it (models/model_extensions.h, models/extended_predictor.h);
+//   - the discrepancy analysis fits it and names it (models/discrepancy.h).
+// Typed units are what people read and type (degrees among them); inside, SI. Adding an effect:
+// docs/effects.md.
+//
+//   pressure_gradient  strength (m/s^2), length (m): an outward radial push near s,
+//                      a(r) = f^2 strength sqrt(2e) (r / length) exp(-(r / length)^2),
+//                      peak `strength` at r = length / sqrt(2) (f the field_scale).
+//   response_delay     tau_s (s): the field follows the nozzle tau_s later than servo travel and
+//                      transit.
+//   flow_deflection    angle_deg (deg): the air velocity turned from radial by this angle
+//                      (counter-clockwise positive), same speed: a swirl of the wall jet.
+//   quadratic_drag     coefficient (1/m): an extra acceleration C |u - v| (u - v).
+//   floor_slope        angle_deg, direction_deg (deg): gravity's pull g sin(angle) downhill toward
+//                      direction_deg (world frame, from +x, counter-clockwise).
+//   stiction           ratio: static / kinetic friction; an object at rest starts only when the
+//                      air's pull exceeds ratio times the kinetic friction.
+//   nozzle_offset      pan_deg, tilt_deg (deg): servo calibration bias, the nozzle turns to
+//                      command + offset.
+//   field_scale        factor: the air speed times factor (stagnation pressure times factor^2).
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace airtwin {
+
+/// The effects, in catalogue order (the order of reports and of effect_catalogue()).
+enum class EffectId {
+  kPressureGradient,
+  kResponseDelay,
+  kFlowDeflection,
+  kQuadraticDrag,
+  kFloorSlope,
+  kStiction,
+  kNozzleOffset,
+  kFieldScale,
+};
+inline constexpr size_t kEffectCount = 8;
+
+/// One parameter of an effect, in its typed unit.
+struct EffectParameter {
+  const char* key;
+  const char* unit;  ///< "" when dimensionless
+  double example;    ///< the twin's value when the effect is named without values
+  double off;        ///< the value of the nominal model
+  bool switches;     ///< its distance from `off` switches the effect on (else it only shapes it)
+  double min, max;   ///< physical range, closed
+  double fit_min, fit_max;  ///< where the discrepancy analysis searches
+};
+
+struct EffectSpec {
+  EffectId id;
+  const char* name;
+  const char* cause;  ///< the physical cause, one sentence for people (reports)
+  const char* twin;   ///< what the twin does when it is on, one line (the CLI's help)
+  std::vector<EffectParameter> params;
+  /// Below this size (the largest |value - off| over the switching parameters, typed units) the
+  /// effect is not worth adding to a model, however significant (docs/discrepancy.md).
+  double negligible_size;
+};
+
+/// The catalogue, indexed by EffectId.
+const std::array<EffectSpec, kEffectCount>& effect_catalogue();
+const EffectSpec& effect_spec(EffectId id);
+/// The entry named `name`; InputError naming it and listing the names when there is none.
+const EffectSpec& find_effect(const std::string& name);
+/// The names, comma-separated, in catalogue order (for messages).
+std::string effect_names();
+
+/// The index of parameter `key` of `spec`; InputError listing the effect's keys otherwise.
+size_t effect_parameter_index(const EffectSpec& spec, const std::string& key);
+/// "[min, max] unit".
+std::string effect_range_text(const EffectParameter& p);
+/// InputError "<name>.<key> must be a finite number in [min, max] unit, got <value>" unless the
+/// value is finite and in range.
+void check_effect_value(const EffectSpec& spec, const EffectParameter& p, double value);
+
+/// The size of an effect given its typed values (catalogue order): the largest |value - off| over
+/// the parameters that switch it on; 0 when off.
+double effect_size(const EffectSpec& spec, const std::vector<double>& typed);
+
+}  // namespace airtwin
