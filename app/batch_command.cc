@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli_common.h"
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/run_setup.h"
@@ -111,9 +112,14 @@ void run_batch_command(const BatchArgs& a) {
     throw UsageError("--jobs: expected a count in [1, 1024] (0: every usable core), got " +
                      std::to_string(a.jobs));
   }
-  const Shard shard = parse_shard(a.shard);
+  const Shard shard =
+      with_flags({{"batch.shard", "--shard"}}, [&] { return parse_shard(a.shard); });
   check_run_setup_flags(a.setup);
-  const BatchPlan plan = make_batch_plan(a.scenarios, a.first_seed, a.seeds, shard);
+  const BatchPlan plan =
+      with_flags({{"batch.seed_count", "--seeds"},
+                  {"batch.first_seed", "--first-seed"},
+                  {"batch.scenarios", "SCENARIO"}},
+                 [&] { return make_batch_plan(a.scenarios, a.first_seed, a.seeds, shard); });
   const AirFieldModel field = field_model_of(a.setup);
   BatchRunOptions options;
   options.run = run_options_of(a.setup);

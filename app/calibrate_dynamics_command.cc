@@ -33,7 +33,7 @@ nlohmann::ordered_json triple(const ObjectDynamics& d) {
 void run_calibrate(CalibrateArgs a) {
   DynamicsCalibrationOptions& o = a.options;
   o.collection.tilts_rad = parse_degree_list(a.tilts, "--tilts");
-  o.collection.validate();
+  with_flags(kCollectionFlags, [&] { o.collection.validate(); });
   o.target = o.collection.object == "tracer" ? kTracerDynamics : kCottonDynamics;
   if (!a.target.empty()) {
     std::stringstream ts(a.target);
@@ -56,14 +56,15 @@ void run_calibrate(CalibrateArgs a) {
   ensure_parent_dir(a.out);
 
   const AirFieldModel field = AirFieldModel::with_default_table();
+  const auto progress = [&](const DynamicsCalibrationStep& s, int round, int rounds) {
+    std::fprintf(stderr,
+                 "calibrate-dynamics: round %d/%d: physics (%.3f, %.3f, %.3f) -> identified "
+                 "(%.3f, %.3f, %.3f), R^2 %.3f, MAPE %.1f%%\n",
+                 round, rounds, s.physics.xi1, s.physics.xi2, s.physics.xi3, s.identified.xi1,
+                 s.identified.xi2, s.identified.xi3, s.r2, s.end_position_mape_pct);
+  };
   const DynamicsCalibration c =
-      calibrate_dynamics(o, field, [&](const DynamicsCalibrationStep& s, int round, int rounds) {
-        std::fprintf(stderr,
-                     "calibrate-dynamics: round %d/%d: physics (%.3f, %.3f, %.3f) -> identified "
-                     "(%.3f, %.3f, %.3f), R^2 %.3f, MAPE %.1f%%\n",
-                     round, rounds, s.physics.xi1, s.physics.xi2, s.physics.xi3, s.identified.xi1,
-                     s.identified.xi2, s.identified.xi3, s.r2, s.end_position_mape_pct);
-      });
+      with_flags(kCollectionFlags, [&] { return calibrate_dynamics(o, field, progress); });
 
   nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
   std::printf(

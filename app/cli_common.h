@@ -2,9 +2,11 @@
 // Helpers shared by the subcommands: flag parsing at the edge (degrees, "X,Y" pairs), output files.
 
 #include <Eigen/Core>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
+#include "common/errors.h"
 #include "sim/effects.h"
 
 namespace airtwin::cli {
@@ -33,6 +35,33 @@ struct NoiseLevel {
   double blur_sigma_px = 0.0;
 };
 NoiseLevel parse_noise(const std::string& level);
+
+/// A library field ("collection.per_tilt") and the flag that sets it ("--per-tilt").
+struct FlagOf {
+  const char* field;
+  const char* flag;
+};
+
+/// Runs `f`; a FieldError on one of `flags`' fields becomes a UsageError naming the flag (the
+/// libraries name their fields, only app/ knows the flags). Other errors pass unchanged.
+template <typename F>
+decltype(auto) with_flags(std::initializer_list<FlagOf> flags, F&& f) {
+  try {
+    return f();
+  } catch (const FieldError& e) {
+    for (const FlagOf& m : flags) {
+      if (e.field() == m.field) throw UsageError(std::string(m.flag) + ": " + e.detail());
+    }
+    throw;
+  }
+}
+
+/// The flags of collect and calibrate-dynamics that set CollectionOptions' fields.
+inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
+    {"collection.object", "--object"},     {"collection.tilts", "--tilts"},
+    {"collection.per_tilt", "--per-tilt"}, {"collection.wait_s", "--wait"},
+    {"collection.lead_in_s", "--lead-in"}, {"collection.record_s", "--record"},
+    {"collection.threads", "--threads"},   {"calibration.iterations", "--iterations"}};
 
 /// The effects of the repeatable --effect flag, parsed and applied to `twin` in order; the
 /// library's error becomes a UsageError naming --effect.

@@ -32,7 +32,7 @@ void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
   o.tilts_rad = parse_degree_list(a.tilts, "--tilts");
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
-  o.validate();
+  with_flags(kCollectionFlags, [&] { o.validate(); });
   const AirFieldModel field = a.table.empty()
                                   ? AirFieldModel::with_default_table()
                                   : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));

@@ -36,7 +36,9 @@ void run(const DiscrepancyArgs& a) {
   options.holdout_fraction = a.holdout;
   options.seed = a.seed;
   options.window_s = a.window_s;
-  options.validate();  // flags first, before any file is read or written
+  // flags first, before any file is read or written
+  with_flags({{"discrepancy.holdout_fraction", "--holdout"}, {"discrepancy.window_s", "--window"}},
+             [&] { options.validate(); });
 
   const TrajectorySet set = read_trajectory_csv(a.data);
   const AirFieldModel field = a.table.empty()

@@ -76,8 +76,12 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
 
 void run_identify(IdentifyArgs a) {
   IdentificationOptions& o = a.options;
-  o.sindy.method = parse_sindy_method(a.method);
-  if (!a.terms.empty()) o.sindy.terms = parse_sindy_terms(a.terms);
+  o.sindy.method =
+      with_flags({{"sindy.method", "--method"}}, [&] { return parse_sindy_method(a.method); });
+  if (!a.terms.empty()) {
+    o.sindy.terms =
+        with_flags({{"sindy.terms", "--terms"}}, [&] { return parse_sindy_terms(a.terms); });
+  }
   o.pairs.repair_glitches = !a.no_glitch_repair;
   require_range(o.sindy.lambda, 0, 10, "--lambda", "a threshold in [0, 10]");
   require_range(o.sindy.bootstraps, 1, 10000, "--bootstraps", "a count in [1, 10000]");

@@ -60,32 +60,9 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   apply_effect_flags(f.effects, &options.twin);
   // The dynamics the controller plans with, per object type.
   for (const std::string& path : f.models) {
-    std::ifstream in(path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in && looks_like_extended_model(text.str())) {
+    if (is_extended_model_file(path)) {
       // extended_model.json from 'airtwin discrepancy': its coefficients and its extensions.
-      // field_scale alone keeps the fast predictor on a table with the air speeds scaled; any
-      // other extension makes the controller predict with the extended model and its nozzle
-      // response (controller/cem_planner.h).
-      const ExtendedModel extended = parse_extended_model_json(text.str(), path);
-      for (const auto& [name, xi] : extended.objects) options.dynamics[name] = xi;
-      bool beyond_scale = false;
-      for (const std::string& name : active_extensions(extended.extensions)) {
-        beyond_scale = beyond_scale || name != "field_scale";
-      }
-      options.planning_field.reset();
-      options.planning_extensions.reset();
-      if (beyond_scale) {
-        ExtendedPlanning planning;
-        planning.extensions = extended.extensions;
-        planning.response = extended.nozzle;
-        options.planning_extensions = planning;
-      } else if (extended.extensions.field_scale != 1.0) {
-        const AirFieldModel base = field_model_of(f);
-        options.planning_field = std::make_shared<const AirFieldModel>(
-            base.geometry(), scaled_field_table(base.table(), extended.extensions.field_scale));
-      }
+      plan_with_extended_model(read_extended_model(path), field_model_of(f), &options);
       continue;
     }
     const IdentifiedModel model = read_identified_model(path);
@@ -110,11 +87,7 @@ CalibratedCamera vision_camera_of(const RunSetupFlags& f, const ScenarioRunOptio
   const CalibratedCamera camera =
       calibrate_twin_camera(dir + "/calibration", options.twin.scene, seed,
                             options.vision.noise_sigma_grey, options.vision.blur_sigma_px);
-  // Written under another name and renamed, so that calib.yaml is never a part of a file.
-  camera.write(dir + "/calib.partial.yaml");
-  std::error_code ec;
-  std::filesystem::rename(dir + "/calib.partial.yaml", dir + "/calib.yaml", ec);
-  if (ec) throw InputError(dir + "/calib.yaml: cannot write: " + ec.message());
+  camera.write(dir + "/calib.yaml");  // whole or not at all
   return camera;
 }
 

@@ -9,10 +9,6 @@
 
 namespace airtwin {
 
-const char* cem_search_name(CemSearch search) {
-  return search == CemSearch::kLine ? "line" : "plane";
-}
-
 CemParameters CemParameters::line_defaults() { return CemParameters{}; }
 
 CemParameters CemParameters::plane_defaults() {

@@ -76,9 +76,6 @@ enum class CemSearch { kLine, kPlane };
 /// crossing it.
 inline constexpr double kOutOfReachCost = 10.0;
 
-/// "line" or "plane".
-const char* cem_search_name(CemSearch search);
-
 struct CemParameters {
   CemSearch search = CemSearch::kLine;
   double horizon_s = 1.5;        ///< Delta T (s)

@@ -8,18 +8,6 @@
 
 namespace airtwin {
 
-const char* task_kind_name(TaskKind kind) {
-  switch (kind) {
-    case TaskKind::kPath:
-      return "path";
-    case TaskKind::kAggregation:
-      return "aggregation";
-    case TaskKind::kSorting:
-      return "sorting";
-  }
-  return "?";
-}
-
 namespace {
 
 bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }

@@ -43,9 +43,6 @@ struct Zone {
 
 enum class TaskKind { kPath, kAggregation, kSorting };
 
-/// "path", "aggregation" or "sorting".
-const char* task_kind_name(TaskKind kind);
-
 struct TaskSpec {
   TaskKind kind = TaskKind::kPath;
 

@@ -605,17 +605,17 @@ std::string fixed(double x, int decimals) {
 
 void DiscrepancyOptions::validate() const {
   if (!(holdout_fraction >= 0.1 && holdout_fraction <= 0.9)) {
-    throw UsageError("--holdout must be in [0.1, 0.9]");
+    throw FieldError("discrepancy.holdout_fraction", "must be in [0.1, 0.9]");
   }
   if (!(std::isfinite(window_s) && window_s >= 0.5 && window_s <= 30.0)) {
-    throw UsageError("--window must be in [0.5, 30] s");
+    throw FieldError("discrepancy.window_s", "must be in [0.5, 30] s");
   }
   if (!(min_window_s > 0.0 && min_window_s <= window_s)) {
-    throw UsageError("the shortest window must be in (0, window]");
+    throw FieldError("discrepancy.min_window_s", "must be in (0, window_s]");
   }
-  if (residual_stride < 1) throw UsageError("the residual stride must be >= 1 frame");
-  if (!(alpha > 0.0 && alpha < 1.0)) throw UsageError("alpha must be in (0, 1)");
-  if (max_found < 1) throw UsageError("max_found must be >= 1");
+  if (residual_stride < 1) throw FieldError("discrepancy.residual_stride", "must be >= 1 frame");
+  if (!(alpha > 0.0 && alpha < 1.0)) throw FieldError("discrepancy.alpha", "must be in (0, 1)");
+  if (max_found < 1) throw FieldError("discrepancy.max_found", "must be >= 1");
   nozzle.validate();
 }
 

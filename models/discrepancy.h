@@ -72,7 +72,7 @@ struct DiscrepancyOptions {
   /// Called with one line per stage (progress for people); optional.
   std::function<void(const std::string&)> progress;
 
-  /// Throws UsageError naming the option when a value is out of range.
+  /// Throws FieldError naming the field ("discrepancy.window_s") when a value is out of range.
   void validate() const;
 };
 

@@ -56,6 +56,13 @@ bool looks_like_extended_model(const std::string& text) {
   return j.is_object() && j.contains("format") && j["format"] == kFormat;
 }
 
+bool is_extended_model_file(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return in && looks_like_extended_model(text.str());
+}
+
 ExtendedModel parse_extended_model_json(const std::string& text, const std::string& source) {
   Json j;
   try {

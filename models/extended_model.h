@@ -34,6 +34,8 @@ struct ExtendedModel {
 std::string extended_model_json(const ExtendedModel& model);
 /// Whether `text` is JSON with "format": "airtwin-extended-model" (to tell it from model.json).
 bool looks_like_extended_model(const std::string& text);
+/// Whether the file at `path` reads as one (false when it cannot be read: its reader says why).
+bool is_extended_model_file(const std::string& path);
 /// Reads the file back; every problem is an InputError naming the source and the key.
 ExtendedModel parse_extended_model_json(const std::string& text, const std::string& source);
 ExtendedModel read_extended_model(const std::string& path);

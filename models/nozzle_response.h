@@ -59,7 +59,6 @@ class NozzleTimeline {
   /// Whether the actual orientation is constant over [t0_s, t1_s] (no servo motion inside).
   bool at_rest_between(double t0_s, double t1_s) const;
 
-  double t_begin_s() const { return t0_; }
   double t_end_s() const { return t0_ + step_ * static_cast<double>(pan_.size() - 1); }
   const NozzleResponseParameters& parameters() const { return params_; }
 

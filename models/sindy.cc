@@ -144,16 +144,17 @@ std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list) {
     const std::string name = list.substr(begin, end - begin);
     const auto it = std::find(kTermNames.begin(), kTermNames.end(), name);
     if (it == kTermNames.end()) {
-      throw UsageError("--terms: unknown term '" + name + "' (the library: " + known + ")");
+      throw FieldError("sindy.terms", "unknown term '" + name + "' (the library: " + known + ")");
     }
     bool& used = mask[static_cast<size_t>(it - kTermNames.begin())];
-    if (used) throw UsageError("--terms: '" + name + "' given twice");
+    if (used) throw FieldError("sindy.terms", "'" + name + "' given twice");
     used = true;
     begin = end + 1;
   }
   if (!mask[kV]) {
-    throw UsageError(
-        "--terms must include v: it carries the persistence v_{k+1} ~ v_k of the discrete-time "
+    throw FieldError(
+        "sindy.terms",
+        "must include v: it carries the persistence v_{k+1} ~ v_k of the discrete-time "
         "regression (eq. 6)");
   }
   return mask;
@@ -164,7 +165,8 @@ SindyMethod parse_sindy_method(const std::string& name) {
   if (name == "esindy") return SindyMethod::kEsindy;
   if (name == "robust") return SindyMethod::kRobust;
   if (name == "robust-esindy") return SindyMethod::kRobustEsindy;
-  throw UsageError("--method: expected stlsq, esindy, robust or robust-esindy, got '" + name + "'");
+  throw FieldError("sindy.method",
+                   "expected stlsq, esindy, robust or robust-esindy, got '" + name + "'");
 }
 
 const char* sindy_method_name(SindyMethod m) {
@@ -260,7 +262,7 @@ SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
     throw InputError("identification: speed series contain non-finite values or dt <= 0");
   }
   if (!(o.lambda >= 0) || o.bootstraps < 1) {
-    throw UsageError("identification: lambda must be >= 0 and bootstraps >= 1");
+    throw FieldError("sindy.lambda, sindy.bootstraps", "expected lambda >= 0 and bootstraps >= 1");
   }
   const bool robust = o.method == SindyMethod::kRobust || o.method == SindyMethod::kRobustEsindy;
   const bool ensemble = o.method == SindyMethod::kEsindy || o.method == SindyMethod::kRobustEsindy;

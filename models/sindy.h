@@ -41,13 +41,13 @@ struct SpeedPairs {
 };
 
 enum class SindyMethod { kStlsq, kEsindy, kRobust, kRobustEsindy };
-/// "stlsq" | "esindy" | "robust" | "robust-esindy"; throws UsageError otherwise.
+/// "stlsq" | "esindy" | "robust" | "robust-esindy"; throws FieldError (sindy.method) otherwise.
 SindyMethod parse_sindy_method(const std::string& name);
 const char* sindy_method_name(SindyMethod m);
 
-/// Library terms by name ("1,v,vair"): a mask over kTermNames. Throws UsageError naming an
-/// unknown or repeated term, or a list without "v" (in discrete time v carries the persistence
-/// v_{k+1} ~ v_k of eq. 6, so no model is possible without it).
+/// Library terms by name ("1,v,vair"): a mask over kTermNames. Throws FieldError (sindy.terms)
+/// naming an unknown or repeated term, or a list without "v" (in discrete time v carries the
+/// persistence v_{k+1} ~ v_k of eq. 6, so no model is possible without it).
 std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list);
 
 struct SindyOptions {

@@ -46,7 +46,6 @@ class GroundTruthCamera {
   int width_px() const { return width_px_; }
   int height_px() const { return height_px_; }
   double focal_px() const { return focal_px_; }          ///< fx = fy (px)
-  double fovy_rad() const { return fovy_rad_; }          ///< vertical field of view (rad)
   const Eigen::Vector3d& p_WC() const { return p_WC_; }  ///< camera centre in world (m)
   /// Orientation: columns are the camera frame's axes (x right, y up, z backwards) in world.
   const Eigen::Matrix3d& R_WC() const { return R_WC_; }

@@ -35,12 +35,12 @@ Shard parse_shard(const std::string& text) {
   const long long index = slash == std::string::npos ? -1 : parse_count(text.substr(0, slash));
   const long long count = slash == std::string::npos ? -1 : parse_count(text.substr(slash + 1));
   if (index < 0 || count < 1 || count > 100000) {
-    throw UsageError("--shard: expected I/N with 0 <= I < N <= 100000 (0-based), got '" + text +
-                     "'");
+    throw FieldError("batch.shard",
+                     "expected I/N with 0 <= I < N <= 100000 (0-based), got '" + text + "'");
   }
   if (index >= count) {
-    throw UsageError("--shard: the shard index is 0-based, so I must be below N = " +
-                     std::to_string(count) + ", got '" + text + "'");
+    throw FieldError("batch.shard", "the shard index is 0-based, so I must be below N = " +
+                                        std::to_string(count) + ", got '" + text + "'");
   }
   return {static_cast<int>(index), static_cast<int>(count)};
 }
@@ -88,14 +88,14 @@ BatchPlan make_batch_plan(const std::vector<std::string>& files, uint64_t first_
                           int seed_count, Shard shard) {
   // Seeds: flags first, before any file is read.
   if (seed_count < 1 || seed_count > 1000000) {
-    throw UsageError("--seeds: expected a count in [1, 1000000], got " +
-                     std::to_string(seed_count));
+    throw FieldError("batch.seed_count",
+                     "expected a count in [1, 1000000], got " + std::to_string(seed_count));
   }
   if (first_seed > std::numeric_limits<uint64_t>::max() - static_cast<uint64_t>(seed_count - 1)) {
-    throw UsageError("--first-seed: the seeds would pass 2^64 - 1");
+    throw FieldError("batch.first_seed", "the seeds would pass 2^64 - 1");
   }
   AIRTWIN_DEMAND(shard.count >= 1 && shard.index >= 0 && shard.index < shard.count);
-  if (files.empty()) throw UsageError("give at least one scenario file");
+  if (files.empty()) throw FieldError("batch.scenarios", "give at least one scenario file");
 
   BatchPlan plan;
   plan.first_seed = first_seed;

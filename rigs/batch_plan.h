@@ -24,7 +24,7 @@ struct Shard {
   bool operator==(const Shard&) const = default;
 };
 
-/// Parses --shard "I/N" (integers, 0 <= I < N <= 100000). Throws UsageError naming --shard.
+/// Parses a shard "I/N" (integers, 0 <= I < N <= 100000). Throws FieldError (batch.shard).
 Shard parse_shard(const std::string& text);
 
 /// One run: which scenario (by name), which seed.
@@ -67,9 +67,10 @@ std::vector<RunKey> plan_runs(const std::vector<std::string>& names, uint64_t fi
                               int seed_count, Shard shard);
 
 /// Reads the scenario files and makes the plan of seeds first_seed .. first_seed + seed_count - 1.
-/// Throws UsageError for a seed count outside [1, 1000000] or seeds past 2^64 - 1; InputError
-/// when a file cannot be read or parsed (as read_scenario), when two files give the same scenario
-/// name, or when a name cannot be a folder name (letters, digits, '_', '-' and inner '.' only).
+/// Throws FieldError (batch.seed_count, batch.first_seed) for a seed count outside [1, 1000000] or
+/// seeds past 2^64 - 1; InputError when a file cannot be read or parsed (as read_scenario), when
+/// two files give the same scenario name, or when a name cannot be a folder name (letters, digits,
+/// '_', '-' and inner '.' only).
 BatchPlan make_batch_plan(const std::vector<std::string>& files, uint64_t first_seed,
                           int seed_count, Shard shard);
 

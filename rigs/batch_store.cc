@@ -37,7 +37,7 @@ BatchStore::BatchStore(std::string dir, const BatchManifest& manifest)
     if (!diff.empty()) {
       throw InputError(path + ": this folder holds a batch started with other arguments (" + diff +
                        ", there vs now); start it again with the same arguments or use another "
-                       "--out");
+                       "folder");
     }
   } else {
     // A new batch: only in a new or empty folder, so that nothing else is overwritten.

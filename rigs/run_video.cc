@@ -28,7 +28,7 @@ struct RunVideo::Impl {
   // The stride is applied here (frames not kept are not rendered at all), so the writer keeps
   // every frame it is given; its summary still reports the run's time scale.
   static VideoOptions options_for(int s) {
-    if (s < 1) throw InputError("--video-stride must be >= 1");
+    if (s < 1) throw FieldError("video.stride", "must be >= 1");
     VideoOptions o;
     o.camera_rate_hz = 40.0 / s;
     return o;

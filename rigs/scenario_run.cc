@@ -133,6 +133,26 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
   return result;
 }
 
+void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& field,
+                              ScenarioRunOptions* options) {
+  for (const auto& [name, xi] : model.objects) options->dynamics[name] = xi;
+  bool beyond_scale = false;
+  for (const std::string& name : active_extensions(model.extensions)) {
+    beyond_scale = beyond_scale || name != "field_scale";
+  }
+  options->planning_field.reset();
+  options->planning_extensions.reset();
+  if (beyond_scale) {
+    ExtendedPlanning planning;
+    planning.extensions = model.extensions;
+    planning.response = model.nozzle;
+    options->planning_extensions = planning;
+  } else if (model.extensions.field_scale != 1.0) {
+    options->planning_field = std::make_shared<const AirFieldModel>(
+        field.geometry(), scaled_field_table(field.table(), model.extensions.field_scale));
+  }
+}
+
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects) {
   return controller_done && (kind == TaskKind::kPath || objects_in_zone == n_objects);
 }

@@ -16,6 +16,7 @@
 #include "controller/closed_loop.h"
 #include "controller/run_metrics.h"
 #include "models/air_field.h"
+#include "models/extended_model.h"
 #include "models/object_dynamics.h"
 #include "models/trajectory_data.h"
 #include "rigs/vision_perception.h"
@@ -71,6 +72,14 @@ struct ScenarioRunResult {
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;
 };
+
+/// The controller of `options` plans with an extended model (extended_model.json from the
+/// discrepancy analysis): its eq. (8) coefficients per object type, and its extensions. A
+/// field_scale alone keeps the fast predictor on `field`'s table with the air speeds scaled; any
+/// other extension makes the controller predict with the extended model and its nozzle response
+/// (controller/cem_planner.h). Replaces what an earlier extended model set.
+void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& field,
+                              ScenarioRunOptions* options);
 
 /// A run succeeded when the controller saw its task done and, for a zone task (aggregation,
 /// sorting), the twin's truth agrees at that moment: all n_objects in their zones.

@@ -50,7 +50,6 @@ class TwinRig final : public Rig {
   double time() const override;
 
   int64_t frame_index() const { return frame_; }
-  double frame_period_s() const { return 1.0 / rate_hz_; }
 
  private:
   void show_frame();

@@ -16,34 +16,40 @@ namespace airtwin {
 
 void CollectionOptions::validate() const {
   if (object != "tracer" && object != "cotton") {
-    throw UsageError("--object: expected tracer or cotton, got '" + object + "'");
+    throw FieldError("collection.object", "expected tracer or cotton, got '" + object + "'");
   }
-  if (tilts_rad.empty()) throw UsageError("--tilts: give at least one tilt");
+  if (tilts_rad.empty()) throw FieldError("collection.tilts", "give at least one tilt");
   for (double t : tilts_rad) {
     if (!(t >= 0 && t <= twin.nozzle.tilt_max_rad)) {
-      throw UsageError("--tilts: each tilt must be in [0, " +
-                       std::to_string(rad_to_deg(twin.nozzle.tilt_max_rad)) + "] deg, got " +
-                       std::to_string(rad_to_deg(t)));
+      throw FieldError("collection.tilts",
+                       "each tilt must be in [0, " +
+                           std::to_string(rad_to_deg(twin.nozzle.tilt_max_rad)) + "] deg, got " +
+                           std::to_string(rad_to_deg(t)));
     }
   }
   if (per_tilt < 1 || per_tilt > 100000) {
-    throw UsageError("--per-tilt: expected a count in [1, 100000], got " +
-                     std::to_string(per_tilt));
+    throw FieldError("collection.per_tilt",
+                     "expected a count in [1, 100000], got " + std::to_string(per_tilt));
   }
   if (!(min_distance_m > 0 && max_distance_m >= min_distance_m && max_distance_m < 2.0)) {
-    throw UsageError("start distances: expected 0 < min <= max < 2 m");
+    throw FieldError("collection.min_distance_m",
+                     "start distances: expected 0 < min_distance_m <= max_distance_m < 2 m");
   }
-  if (!(wait_s >= 0 && wait_s <= 600)) throw UsageError("--wait: expected seconds in [0, 600]");
+  if (!(wait_s >= 0 && wait_s <= 600)) {
+    throw FieldError("collection.wait_s", "expected seconds in [0, 600]");
+  }
   if (!(lead_in_s >= 0 && lead_in_s <= wait_s)) {
-    throw UsageError("--lead-in: expected seconds in [0, --wait]");
+    throw FieldError("collection.lead_in_s", "expected seconds in [0, wait_s]");
   }
   if (!(record_s > 0 && record_s <= 600)) {
-    throw UsageError("--record: expected seconds in (0, 600]");
+    throw FieldError("collection.record_s", "expected seconds in (0, 600]");
   }
   if (!(frame_rate_hz >= 1 && frame_rate_hz <= 1000)) {
-    throw UsageError("--frame-rate: expected a rate in [1, 1000] Hz");
+    throw FieldError("collection.frame_rate_hz", "expected a rate in [1, 1000] Hz");
   }
-  if (threads < 0 || threads > 256) throw UsageError("--threads: expected a count in [0, 256]");
+  if (threads < 0 || threads > 256) {
+    throw FieldError("collection.threads", "expected a count in [0, 256]");
+  }
 }
 
 std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
@@ -64,9 +70,10 @@ std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
         trial.start_W = s + r * Eigen::Vector2d(std::cos(a), std::sin(a));
         if (trial.start_W.norm() <= o.max_start_radius_m) break;
         if (attempt == 1000) {
-          throw UsageError("no start position within " + std::to_string(o.max_start_radius_m) +
-                           " m of the origin at tilt " + std::to_string(rad_to_deg(tilt)) +
-                           " deg: the tilt is too large for the camera's view");
+          throw FieldError("collection.tilts",
+                           "no start position within " + std::to_string(o.max_start_radius_m) +
+                               " m of the origin at tilt " + std::to_string(rad_to_deg(tilt)) +
+                               " deg: the tilt is too large for the camera's view");
         }
       }
       trial.twin_seed = static_cast<uint64_t>(rs.uniform() * 0x1.0p53);

@@ -46,7 +46,7 @@ struct CollectionOptions {
   TwinParameters twin;  ///< the twin's physics (effects applied here)
   int threads = 1;      ///< twins run in parallel (0: one per core)
 
-  /// Throws UsageError naming the option when a value is out of range.
+  /// Throws FieldError naming the field ("collection.per_tilt") when a value is out of range.
   void validate() const;
 };
 

@@ -21,7 +21,7 @@ DynamicsCalibration calibrate_dynamics(
     const DynamicsCalibrationOptions& o, const AirFieldModel& field,
     const std::function<void(const DynamicsCalibrationStep&, int, int)>& progress) {
   o.target.validate("calibration target");
-  if (o.iterations < 1) throw UsageError("--iterations: expected at least 1");
+  if (o.iterations < 1) throw FieldError("calibration.iterations", "expected at least 1");
   CollectionOptions collection = o.collection;
   ObjectTypeParameters& type =
       collection.object == "tracer" ? collection.twin.scene.tracer : collection.twin.scene.cotton;
@@ -73,7 +73,7 @@ std::optional<double> repeatability_mape_pct(const CollectionTrial& trial,
                                              const CollectionOptions& options,
                                              const AirFieldModel& field, int repeats,
                                              double placement_m) {
-  if (repeats < 2) throw UsageError("repeatability: at least 2 repeats are needed");
+  if (repeats < 2) throw FieldError("repeatability.repeats", "at least 2 repeats are needed");
   Eigen::Vector2d first_end = Eigen::Vector2d::Zero();
   double travel = 0.0, sum = 0.0;
   for (int i = 0; i < repeats; ++i) {

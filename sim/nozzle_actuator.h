@@ -73,14 +73,12 @@ class NozzleActuator {
 
   const NozzleOrientation& commanded() const { return commanded_; }
   /// Where the servos are heading: the command plus the calibration offset, clamped (rad).
-  const NozzleOrientation& servo_target() const { return servo_target_; }
   const NozzleOrientation& actual() const { return actual_; }
   /// The orientation the air field currently follows: actual, field_delay_s ago.
   const NozzleOrientation& effective() const { return history_[head_]; }
   /// Servo angular speeds (rad/s): pan, tilt.
   double pan_rate_radps() const { return pan_rate_; }
   double tilt_rate_radps() const { return tilt_rate_; }
-  bool jet_on() const { return jet_on_; }
   /// Air-speed scale in [0, 1].
   double jet_level() const { return jet_level_; }
   const NozzleActuatorParameters& parameters() const { return params_; }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "vision/yaml_fields.h"
 
@@ -85,14 +86,9 @@ std::optional<Eigen::Vector3d> CalibratedCamera::point_at_height(const Eigen::Ve
 Eigen::Vector3d CalibratedCamera::centre_W() const { return -R_CW.transpose() * t_C; }
 
 void CalibratedCamera::write(const std::string& path) const {
-  cv::FileStorage fs;
-  bool opened = false;
-  try {
-    opened = fs.open(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception&) {
-    opened = false;
-  }
-  if (!opened) throw InputError(path + ": cannot open for writing");
+  // Composed in memory, then written whole or not at all (common/atomic_file.h).
+  cv::FileStorage fs(
+      ".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   fs.writeComment(
       "airtwin calibrated camera: pinhole + OpenCV distortion (k1 k2 p1 p2 k3); p_C = R_CW p_W + "
       "t_C, world in m (floor z = 0), pixels (u right, v down); docs/camera_calibration.md");
@@ -101,7 +97,7 @@ void CalibratedCamera::write(const std::string& path) const {
   fs << "R_CW" << to_mat(R_CW) << "t_C" << to_mat(t_C);
   fs << "rms_reprojection_px" << rms_reprojection_px << "pose_rms_px" << pose_rms_px;
   fs << "n_views" << n_views;
-  fs.release();
+  write_file_atomically(path, fs.releaseAndGetString());
 }
 
 CalibratedCamera CalibratedCamera::read(const std::string& path) {

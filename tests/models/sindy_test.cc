@@ -141,11 +141,11 @@ TEST(Sindy, TermsParseByNameAndMustIncludeV) {
   for (bool b : all) EXPECT_TRUE(b);
   const auto eq8 = parse_sindy_terms("vair,1,v");
   for (int j = 0; j < kSindyTerms; ++j) EXPECT_EQ(eq8[j], j < 3) << kTermNames[j];
-  EXPECT_THROW(parse_sindy_terms("1,vair"), UsageError);     // no v
-  EXPECT_THROW(parse_sindy_terms("1,v,v"), UsageError);      // twice
-  EXPECT_THROW(parse_sindy_terms("1,v,vair2"), UsageError);  // unknown
-  EXPECT_THROW(parse_sindy_terms("1,v,"), UsageError);       // empty name
-  EXPECT_THROW(parse_sindy_terms(""), UsageError);
+  EXPECT_THROW(parse_sindy_terms("1,vair"), FieldError);     // no v
+  EXPECT_THROW(parse_sindy_terms("1,v,v"), FieldError);      // twice
+  EXPECT_THROW(parse_sindy_terms("1,v,vair2"), FieldError);  // unknown
+  EXPECT_THROW(parse_sindy_terms("1,v,"), FieldError);       // empty name
+  EXPECT_THROW(parse_sindy_terms(""), FieldError);
 }
 
 TEST(Sindy, SameSeedSameResultOtherSeedOtherBootstraps) {
@@ -190,7 +190,7 @@ TEST(Sindy, TooLittleDataIsAClearError) {
   d.v_next.conservativeResize(5);
   d.va_next.conservativeResize(5);
   EXPECT_THROW(identify_sindy(d, SindyOptions{}), InputError);
-  EXPECT_THROW(parse_sindy_method("lasso"), UsageError);
+  EXPECT_THROW(parse_sindy_method("lasso"), FieldError);
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ TEST(BatchPlan, ParsesShardsZeroBased) {
   EXPECT_EQ(parse_shard("0/1"), (Shard{0, 1}));
   EXPECT_EQ(parse_shard("3/4"), (Shard{3, 4}));
   for (const char* bad : {"4/4", "1", "-1/4", "a/4", "1/0", "1/4x", "", "/", "1/200000"}) {
-    EXPECT_THROW(parse_shard(bad), UsageError) << bad;
-    EXPECT_NE(message_of([&] { parse_shard(bad); }).find("--shard"), std::string::npos) << bad;
+    EXPECT_THROW(parse_shard(bad), FieldError) << bad;
+    EXPECT_NE(message_of([&] { parse_shard(bad); }).find("batch.shard"), std::string::npos) << bad;
   }
 }
 
@@ -96,9 +96,16 @@ TEST(BatchPlan, RefusesDuplicateNamesBadNamesAndBadSeedCounts) {
       message_of([&] { make_batch_plan({dir + "/slash.yaml"}, 1, 1, {}); });
   EXPECT_NE(bad_name.find("slash.yaml"), std::string::npos) << bad_name;
   // Seeds and files.
-  EXPECT_THROW(make_batch_plan({kScenes + "line.yaml"}, 1, 0, {}), UsageError);
-  EXPECT_THROW(make_batch_plan({kScenes + "line.yaml"}, ~0ull, 2, {}), UsageError);
-  EXPECT_THROW(make_batch_plan({}, 1, 2, {}), UsageError);
+  EXPECT_NE(message_of([&] {
+              make_batch_plan({kScenes + "line.yaml"}, 1, 0, {});
+            }).find("batch.seed_count"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] {
+              make_batch_plan({kScenes + "line.yaml"}, ~0ull, 2, {});
+            }).find("batch.first_seed"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { make_batch_plan({}, 1, 2, {}); }).find("batch.scenarios"),
+            std::string::npos);
   const std::string missing = message_of([&] { make_batch_plan({dir + "/none.yaml"}, 1, 1, {}); });
   EXPECT_NE(missing.find("none.yaml"), std::string::npos) << missing;
 }
