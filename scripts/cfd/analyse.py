@@ -211,6 +211,7 @@ def main():
                "cells": hdr["cells"], "iterations": hdr["iterations"],
                "converged": hdr["converged"], "final_residuals": hdr["final_residuals"],
                "wall_time_s": wt, "mpi_ranks": hdr.get("mpi_ranks"),
+               "startup_ramp": bool(hdr["inlet"].get("speed_ramp")),
                "s_per_iteration": (wt["solve"] / hdr["iterations"]) if wt.get("solve") and hdr["iterations"] else None,
                "c_m": c, "s_m": s,
                "offset_m": abs(c - s) if s is not None else None, "eq2_offset_m": A1 * abs(c) ** A2,
@@ -291,19 +292,25 @@ def markdown(out, names):
     L.append("#### Cost and convergence per case")
     L.append("")
     L.append("| case | tilt (deg) | mesh | inlet (mm) | inlet area vs nominal | inlet speed (m/s) | cells |"
-             " meshing (s) | solving (s) | iterations | s / iteration | converged (residuals < 1e-4) |"
-             " largest final residual |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+             " start-up ramp | meshing (s) | solving (s) | iterations | s / iteration |"
+             " converged (residuals < 1e-4) | largest final residual |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for n in names:
         r = out["cases"][n]
         wt = r["wall_time_s"]
         fr = r["final_residuals"] or {}
         big = max(fr.items(), key=lambda kv: kv[1]) if fr else None
-        L.append("| `%s` | %g | %d | %g | %+.2f %% | %.1f | %d | %s | %s | %d | %s | %s | %s |" % (
+        L.append("| `%s` | %g | %d | %g | %+.2f %% | %.1f | %d | %s | %s | %s | %d | %s | %s | %s |" % (
             n, r["tilt_deg"], r["mesh_level"], 1000 * r["inlet_d_m"], r["inlet_area_error_pct"],
-            r["inlet_speed_m_s"], r["cells"], _f(wt.get("mesh"), "%d"),
+            r["inlet_speed_m_s"], r["cells"], "yes" if r["startup_ramp"] else "no", _f(wt.get("mesh"), "%d"),
             _f(wt.get("solve"), "%d"), r["iterations"], _f(r["s_per_iteration"], "%.2f"),
             "yes" if r["converged"] else "no", "%s %.1e" % big if big else "-"))
+    tm = sum((out["cases"][n]["wall_time_s"].get("mesh") or 0) for n in names)
+    ts = sum((out["cases"][n]["wall_time_s"].get("solve") or 0) for n in names)
+    L.append("")
+    L.append("Total for these %d cases: %.0f min (meshing %.0f, solving %.0f; each solving time includes up to"
+             " 30 s of the runner's polling; sampling and conversion take seconds)."
+             % (len(names), (tm + ts) / 60.0, tm / 60.0, ts / 60.0))
     L.append("")
 
     main_names = sorted([n for n in names if out["cases"][n]["mesh_level"] == 1
