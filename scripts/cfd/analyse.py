@@ -248,7 +248,12 @@ def main():
         res = {}
         for h in (0.0075, 0.015, 0.025):
             res["z%.4f" % h] = mape(inplane(hdr, arr, h), inplane(hr, ar, h))
+        sa, sb = out["cases"][n]["s_m"], out["cases"][ref]["s_m"]
         out["independence"][n] = {"what": what, "reference": n, "compared": ref, "by_height": res,
+                                  "s_shift_m": (sb - sa) if sa is not None and sb is not None else None,
+                                  "peak_m_s": [out["cases"][n]["peak_z015"]["speed_m_s"],
+                                               out["cases"][ref]["peak_z015"]["speed_m_s"]],
+                                  "centreline_B": [out["cases"][x].get("centreline", {}).get("B") for x in (n, ref)],
                                   "target_pct": MESH_TARGET_PCT,
                                   "within_target": res["z0.0150"]["mape_pct"] <= MESH_TARGET_PCT}
     out["offset_law"] = offset_law(out, names)
@@ -392,14 +397,19 @@ def markdown(out, names):
              " smaller inlet) is >= %.1f m/s; target <= %.0f %% at 1.5 cm." % (MASK, MESH_TARGET_PCT))
     L.append("")
     if out["independence"]:
-        L.append("| comparison | tilt (deg) | MAPE at 1.5 cm | 95th percentile | points | at 7.5 mm | at 2.5 cm | within target |")
-        L.append("|---|---|---|---|---|---|---|---|")
+        L.append("| comparison | tilt (deg) | MAPE at 1.5 cm | 95th percentile | points | at 7.5 mm | at 2.5 cm |"
+                 " within target | s, compared - reference (mm) | peak at 1.5 cm, reference / compared (m/s) | B, reference / compared |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|")
         for n, r in sorted(out["independence"].items(), key=lambda kv: (kv[1]["what"], kv[0])):
             z = r["by_height"]
-            L.append("| %s | %g | %.2f %% | %.2f %% | %d | %.2f %% | %.2f %% | %s |" % (
+            B = r["centreline_B"]
+            L.append("| %s | %g | %.2f %% | %.2f %% | %d | %.2f %% | %.2f %% | %s | %s | %.2f / %.2f | %s |" % (
                 r["what"], out["cases"][n]["tilt_deg"], z["z0.0150"]["mape_pct"], z["z0.0150"]["p95_pct"],
                 z["z0.0150"]["points"], z["z0.0075"]["mape_pct"], z["z0.0250"]["mape_pct"],
-                "yes" if r["within_target"] else "no"))
+                "yes" if r["within_target"] else "no", _f(1000 * r["s_shift_m"] if r["s_shift_m"] is not None
+                                                          else None, "%+.1f"),
+                r["peak_m_s"][0], r["peak_m_s"][1],
+                "%.2f / %.2f" % tuple(B) if None not in B else "-"))
     else:
         L.append("No pair of cases yet.")
     L.append("")
