@@ -1,5 +1,5 @@
 // airtwin batch: every scenario x seed in closed loop, twins in parallel threads, resumable
-// (rigs/batch_runner.h); DIR/runs.csv and the report (rigs/batch_report.h). A shard of the batch
+// (runs/batch_runner.h); DIR/runs.csv and the report (runs/batch_report.h). A shard of the batch
 // for a cluster's job array with --shard I/N, and airtwin batch-merge to put the shards' results
 // together into the report of the whole batch. docs/batch.md.
 
@@ -20,10 +20,10 @@
 #include "app/run_setup.h"
 #include "common/csv.h"
 #include "common/errors.h"
-#include "rigs/batch_plan.h"
-#include "rigs/batch_report.h"
-#include "rigs/batch_runner.h"
-#include "rigs/batch_store.h"
+#include "runs/batch_plan.h"
+#include "runs/batch_report.h"
+#include "runs/batch_runner.h"
+#include "runs/batch_store.h"
 
 namespace airtwin::cli {
 namespace {

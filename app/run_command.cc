@@ -1,4 +1,4 @@
-// airtwin run: one closed-loop run of a scenario in the twin (rigs/scenario_run.h). Writes
+// airtwin run: one closed-loop run of a scenario in the twin (runs/scenario_run.h). Writes
 // DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included),
 // DIR/decisions.csv and DIR/plans.csv.
 
@@ -14,8 +14,8 @@
 #include "app/progress.h"
 #include "app/run_setup.h"
 #include "common/errors.h"
-#include "rigs/run_video.h"
-#include "rigs/scenario_run.h"
+#include "runs/run_video.h"
+#include "runs/scenario_run.h"
 #include "scenes/scenario.h"
 
 namespace airtwin::cli {

@@ -1,7 +1,7 @@
 #pragma once
 // What `run` and `batch` share: the flags that set up a closed-loop run besides the scenario and
 // the seed (field table, identified models, twin effects, vision), their checks, and their
-// translation into ScenarioRunOptions (rigs/scenario_run.h).
+// translation into ScenarioRunOptions (runs/scenario_run.h).
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "models/air_field.h"
-#include "rigs/scenario_run.h"
+#include "runs/scenario_run.h"
 #include "vision/calibrated_camera.h"
 
 namespace airtwin::cli {

@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <string>
 
-#include "rigs/batch_runner.h"
+#include "runs/batch_runner.h"
 
 namespace airtwin {
 namespace {

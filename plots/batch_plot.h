@@ -1,5 +1,5 @@
 #pragma once
-// Pictures of a batch of runs (rigs/batch_report.h): the spread of a figure over seeds, per
+// Pictures of a batch of runs (runs/batch_report.h): the spread of a figure over seeds, per
 // scenario (box plots), and its distribution in one scenario (histograms). Deterministic: the same
 // values give the same bytes.
 //

@@ -1,4 +1,4 @@
-#include "rigs/scenario_run.h"
+#include "runs/scenario_run.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "rigs/run_video.h"
+#include "runs/run_video.h"
 
 #include <optional>
 

@@ -1,7 +1,7 @@
 // The batch report: distributions with their worst seed, success rates with Wilson intervals,
 // runs.csv in (scenario, seed) order whatever the input order, and the files it writes.
 
-#include "rigs/batch_report.h"
+#include "runs/batch_report.h"
 
 #include <gtest/gtest.h>
 

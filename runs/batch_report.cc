@@ -1,4 +1,4 @@
-#include "rigs/batch_report.h"
+#include "runs/batch_report.h"
 
 #include <algorithm>
 #include <cmath>

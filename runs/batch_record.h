@@ -1,8 +1,8 @@
 #pragma once
 // The record of one finished run of a batch: what `airtwin run` writes as summary.json (the
-// summary fields of rigs/scenario_run.h), plus the run's wall-clock time, or for a run whose twin
+// summary fields of runs/scenario_run.h), plus the run's wall-clock time, or for a run whose twin
 // failed (SimulationError) the error instead of the figures. One JSON file per run in the batch's
-// runs/ folder (rigs/batch_store.h); runs.csv and the report are made from these.
+// runs/ folder (runs/batch_store.h); runs.csv and the report are made from these.
 //
 // Two kinds of fields. The result (success, times, errors, counts) depends on the scenario, the
 // options and the seed only; the timing (wall_s, decision_ms, vision frame_ms) is wall-clock time
@@ -12,8 +12,8 @@
 #include <optional>
 #include <string>
 
-#include "rigs/batch_plan.h"
-#include "rigs/scenario_run.h"
+#include "runs/batch_plan.h"
+#include "runs/scenario_run.h"
 
 namespace airtwin {
 

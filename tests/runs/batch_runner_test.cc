@@ -1,7 +1,7 @@
 // The batch runner: results independent of the job count (truth and vision: rendering in several
 // threads at once), resumption that runs only what is missing, and a stop on bad input.
 
-#include "rigs/batch_runner.h"
+#include "runs/batch_runner.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 
 #include "common/csv.h"
 #include "common/errors.h"
-#include "rigs/batch_report.h"
+#include "runs/batch_report.h"
 #include "sim/scene_builder.h"
 #include "tests/support/scratch_dir.h"
 #include "tests/vision/twin_frames.h"

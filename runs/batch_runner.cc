@@ -1,4 +1,4 @@
-#include "rigs/batch_runner.h"
+#include "runs/batch_runner.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "rigs/batch_plan.h"
+#include "runs/batch_plan.h"
 
 #include <algorithm>
 #include <charconv>

@@ -1,6 +1,6 @@
 #pragma once
 // What a batch runs: every scenario x seed, each run named by a stable key (scenario name, seed)
-// that fixes its result (rigs/scenario_run.h: a run depends on its scenario, options and seed
+// that fixes its result (runs/scenario_run.h: a run depends on its scenario, options and seed
 // only), and how the runs are split into shards for a cluster's job array.
 //
 // Order. Runs are ordered by scenario name, then seed; every output of a batch follows that order,

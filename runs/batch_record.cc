@@ -1,4 +1,4 @@
-#include "rigs/batch_record.h"
+#include "runs/batch_record.h"
 
 #include <nlohmann/json.hpp>
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "rigs/scenario_run.h"
+#include "runs/scenario_run.h"
 #include "tests/support/test_run.h"
 
 namespace airtwin {

@@ -1,7 +1,7 @@
 // A batch's manifest: what its results depend on, compared without file paths, with or without
 // the shard.
 
-#include "rigs/batch_manifest.h"
+#include "runs/batch_manifest.h"
 
 #include <gtest/gtest.h>
 

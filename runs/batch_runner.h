@@ -1,8 +1,8 @@
 #pragma once
-// Runs a batch's share of runs (rigs/batch_plan.h) on this machine: twins in parallel threads (a
+// Runs a batch's share of runs (runs/batch_plan.h) on this machine: twins in parallel threads (a
 // pool of `jobs` workers taking the next unfinished run), each finished run committed to the
-// batch folder at once (rigs/batch_store.h), runs already finished there skipped. A run's result
-// depends on its scenario, the options and its seed only (rigs/scenario_run.h), so neither the
+// batch folder at once (runs/batch_store.h), runs already finished there skipped. A run's result
+// depends on its scenario, the options and its seed only (runs/scenario_run.h), so neither the
 // job count nor the order in which runs finish changes any record's result fields.
 //
 // Failures. A run whose twin fails (SimulationError: divergence, NaN) is a result - the record
@@ -13,16 +13,16 @@
 // Threads and rendering (--vision): each run renders through its own OSMesa context, created in
 // the worker thread that runs it (renders/offscreen_context.h: one context per thread, creation
 // serialised); detection and tracking keep per-run state only. Tested in
-// tests/rigs/batch_runner_test.cc (vision runs in two threads give the records of one thread).
+// tests/runs/batch_runner_test.cc (vision runs in two threads give the records of one thread).
 
 #include <functional>
 #include <vector>
 
 #include "models/air_field.h"
-#include "rigs/batch_plan.h"
-#include "rigs/batch_record.h"
-#include "rigs/batch_store.h"
-#include "rigs/scenario_run.h"
+#include "runs/batch_plan.h"
+#include "runs/batch_record.h"
+#include "runs/batch_store.h"
+#include "runs/scenario_run.h"
 
 namespace airtwin {
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "rigs/batch_manifest.h"
-#include "rigs/batch_record.h"
+#include "runs/batch_manifest.h"
+#include "runs/batch_record.h"
 
 namespace airtwin {
 

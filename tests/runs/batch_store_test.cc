@@ -1,7 +1,7 @@
 // A batch's folder: the manifest guards it, finished runs are exactly the readable records, and
 // what a killed batch leaves (a temporary, a damaged record) never counts as finished.
 
-#include "rigs/batch_store.h"
+#include "runs/batch_store.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "rigs/batch_store.h"
+#include "runs/batch_store.h"
 
 #include <filesystem>
 

@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rigs/batch_plan.h"
+#include "runs/batch_plan.h"
 
 namespace airtwin {
 

@@ -4,8 +4,8 @@
 // any moment (kill -9 included) and started again finds the runs that finished and redoes the
 // others; a run killed half-way left nothing but a temporary file, which the next start deletes.
 //
-//   DIR/batch.json                              the manifest (rigs/batch_manifest.h)
-//   DIR/runs/<scenario>/seed-<n>.json           a finished run's record (rigs/batch_record.h)
+//   DIR/batch.json                              the manifest (runs/batch_manifest.h)
+//   DIR/runs/<scenario>/seed-<n>.json           a finished run's record (runs/batch_record.h)
 //   DIR/runs/<scenario>/seed-<n>.log.csv        with logs: the trajectory CSV of the run
 //   DIR/runs/<scenario>/seed-<n>.decisions.csv  with logs: its decisions
 // With logs, both CSV files are committed before the record, so a record always has them.
@@ -13,8 +13,8 @@
 #include <optional>
 #include <string>
 
-#include "rigs/batch_manifest.h"
-#include "rigs/batch_record.h"
+#include "runs/batch_manifest.h"
+#include "runs/batch_record.h"
 
 namespace airtwin {
 

@@ -1,4 +1,4 @@
-#include "rigs/batch_manifest.h"
+#include "runs/batch_manifest.h"
 
 #include "common/errors.h"
 

@@ -1,7 +1,7 @@
 // A run's record: summary.json's fields and the wall time, read back exactly; a twin failure's
 // record; refusal of what is no record.
 
-#include "rigs/batch_record.h"
+#include "runs/batch_record.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The plan of a batch: scenario x seed in a fixed order, stable keys, shards that split the runs
 // without loss or overlap, and clear refusals.
 
-#include "rigs/batch_plan.h"
+#include "runs/batch_plan.h"
 
 #include <gtest/gtest.h>
 
