@@ -76,28 +76,32 @@ bash scripts/setup.sh
 end
 
 launcher=()
-if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+if command -v ccache >/dev/null; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  # Paths relative to the checkout in ccache's hashes: another clone of the same sources hits.
+  export CCACHE_BASEDIR="$PWD"
+fi
 
 begin "release build"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 cmake --build build -j"$jobs"
 end
 
-begin "unit tests"
-ctest --test-dir build -j"$jobs" -L '^unit$' --output-on-failure
-end
+# Test stages run whatever the one before gave (a build failure stops the script); the script
+# fails at the end when any did.
+failed=0
+check() {  # name, command...: a test stage
+  local name=$1
+  shift
+  begin "$name"
+  if "$@"; then end; else end FAILED; failed=1; fi
+}
 
-begin "closed loop"
-ctest --test-dir build -j"$jobs" -L '^closedloop$' --output-on-failure
-end
-
-begin discrepancy
-ctest --test-dir build -j"$jobs" -L '^(discrepancy|calibration)$' --output-on-failure
-end
-
-begin format
-bash scripts/check_format.sh
-end
+check "unit tests" ctest --test-dir build -j"$jobs" -L '^unit$' --output-on-failure
+check "closed loop" ctest --test-dir build -j"$jobs" -L '^closedloop$' --output-on-failure
+check discrepancy ctest --test-dir build -j"$jobs" -L '^(discrepancy|calibration)$' \
+  --output-on-failure
+check format bash scripts/check_format.sh
 
 if [ "$sanitize" = 1 ]; then
   begin "sanitizer build"
@@ -105,14 +109,12 @@ if [ "$sanitize" = 1 ]; then
     -DAIRTWIN_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
   cmake --build build-asan -j"$jobs"
   end
-  begin "sanitizer tests"
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  check "sanitizer tests" env ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
+    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan -j"$jobs" -L '^unit$' --output-on-failure
-  end
 fi
 
 if [ "$slurm" = 1 ]; then
-  begin slurm
-  ctest --test-dir build -L '^slurm$' --output-on-failure
-  end
+  check slurm ctest --test-dir build -L '^slurm$' --output-on-failure
 fi
+[ "$failed" = 0 ]
