@@ -101,9 +101,8 @@ struct Scratch {
 // when the air on the floor starts to follow the servos (a transit after the command): the
 // servos' closed-form rest-to-rest moves, cut into kSweepStep pieces that each hold the
 // orientation at their middle, then `to`. Returns when `to` holds (0: no move, and `schedule`
-// is `to` throughout). The midpoint rule with 100 ms pieces ends objects 4 mm (mean) and 11 mm
-// (90th percentile) from CVODE on the continuous sweep over random re-aims, against 7 and 19 mm
-// for 50 ms pieces held at their ends (docs/controller.md).
+// is `to` throughout). Pieces of 100 ms held at their middles: accuracy against CVODE on the
+// continuous sweep in docs/controller.md, the variant they replaced in docs/decisions.md.
 constexpr double kSweepStep = 0.1;
 double transition_schedule(const NozzleResponseParameters& r, const NozzleOrientation& from,
                            const NozzleOrientation& to, OrientationSchedule& schedule) {

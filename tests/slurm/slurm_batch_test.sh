@@ -45,6 +45,9 @@ cleanup() {
   local status=$?
   for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
+  # munged runs as a daemon of its own: stopped by its pid file.
+  [ -f "$work/munge/munged.pid" ] && kill -TERM "$(cat "$work/munge/munged.pid")" 2>/dev/null
+  true
   if [ "$status" = 0 ]; then
     rm -rf "$work"
   else
@@ -57,14 +60,15 @@ trap cleanup EXIT
 say "unsharded batch on this machine"
 "$airtwin" batch "${scenarios[@]}" --seeds "$seeds" --quiet --out "$work/local" >/dev/null
 
-# munge: a fresh key, the daemon in the foreground (its PID is ours to stop).
+# munge: a fresh key; munged returns once its socket answers (it detaches only after initialising),
+# so nothing polls for it.
 mungekey --create --keyfile="$work/munge/munge.key" >/dev/null 2>&1 ||
   dd if=/dev/urandom of="$work/munge/munge.key" bs=1024 count=1 2>/dev/null
 chmod 0600 "$work/munge/munge.key"
-munged --foreground --key-file="$work/munge/munge.key" --socket="$work/munge/munge.socket.2" \
+munged --key-file="$work/munge/munge.key" --socket="$work/munge/munge.socket.2" \
   --pid-file="$work/munge/munged.pid" --log-file="$work/munge/munged.log" \
-  --seed-file="$work/munge/munged.seed" >"$work/logs/munged.out" 2>&1 &
-pids+=($!)
+  --seed-file="$work/munge/munged.seed" >"$work/logs/munged.out" 2>&1 ||
+  fail "munged did not start: $(tail -3 "$work/logs/munged.out" "$work/munge/munged.log" 2>/dev/null)"
 
 # slurm.conf: one node on loopback, no cgroups, no accounting; ports of our own.
 host=$(hostname -s)
@@ -98,9 +102,7 @@ PartitionName=batch Nodes=$host Default=YES MaxTime=INFINITE State=UP OverSubscr
 CONF
 export SLURM_CONF="$work/slurm.conf"
 
-# Wait until the munge socket answers, then start the two daemons.
-for _ in $(seq 100); do [ -S "$work/munge/munge.socket.2" ] && break; sleep 0.1; done
-[ -S "$work/munge/munge.socket.2" ] || fail "munged did not start (see $work/munge/munged.log)"
+# The two daemons. Slurm says nothing when it is ready: its own client asks, within a deadline.
 slurmctld -D -f "$SLURM_CONF" >"$work/logs/slurmctld.out" 2>&1 &
 pids+=($!)
 slurmd -D -f "$SLURM_CONF" >"$work/logs/slurmd.out" 2>&1 &
@@ -114,16 +116,12 @@ say "cluster up ($host, port $port)"
 # The documented script as an array over the shards.
 cd "$work"
 submitted=$EPOCHREALTIME
-job=$(AIRTWIN="$airtwin" sbatch --parsable --array=0-$((shards - 1)) --cpus-per-task=1 \
-  --output="$work/logs/%A_%a.out" "$src/scripts/slurm/batch.sbatch" "$shards" "$work/cluster" \
-  "${scenarios[@]}" --seeds "$seeds") || fail "sbatch refused the job array"
-job=${job%%;*}
-say "submitted job array $job ($shards tasks)"
-for _ in $(seq 3000); do
-  [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break
-  sleep 0.1
-done
-[ -z "$(squeue -h -j "$job")" ] || fail "job $job still queued or running after 300 s"
+# sbatch --wait returns when every task has ended (its status: the worst task's).
+say "submitting the job array ($shards tasks)"
+AIRTWIN="$airtwin" timeout 300 sbatch --wait --parsable --array=0-$((shards - 1)) \
+  --cpus-per-task=1 --output="$work/logs/%A_%a.out" "$src/scripts/slurm/batch.sbatch" "$shards" \
+  "$work/cluster" "${scenarios[@]}" --seeds "$seeds" >"$work/logs/sbatch.out" ||
+  fail "the job array failed or ran past 300 s: $(tail -3 "$work/logs/sbatch.out")"
 array_s=$(since "$submitted")
 say "array done in $array_s s"
 for ((i = 0; i < shards; i++)); do

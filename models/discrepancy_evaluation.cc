@@ -1,0 +1,91 @@
+#include "models/discrepancy_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "common/parallel_for.h"
+
+namespace airtwin::discrepancy_detail {
+
+double robust_cost(double e) {
+  const double c2 = kRobustScale * kRobustScale;
+  return 2.0 * c2 * (std::sqrt(1.0 + e * e / c2) - 1.0);
+}
+
+void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
+                         std::vector<WindowScore>* scores, Eigen::VectorXd* residuals) const {
+  scores->assign(which.size(), {});
+  std::vector<size_t> offsets(which.size() + 1, 0);
+  for (size_t i = 0; i < which.size(); ++i) {
+    offsets[i + 1] = offsets[i] + 2 * ws_.windows[which[i]].times.size();
+  }
+  if (residuals != nullptr) residuals->setZero(static_cast<Eigen::Index>(offsets.back()));
+  auto work = [&](size_t begin, size_t end) {
+    std::vector<Eigen::Vector2d> predicted;
+    for (size_t i = begin; i < end; ++i) {
+      const Window& w = ws_.windows[which[i]];
+      predictor_.predict(*w.xi, ext, *w.timeline, w.start, w.times, &predicted);
+      const double norm = 1.0 / (w.scale_m * std::sqrt(static_cast<double>(w.times.size())));
+      double sum = 0.0;
+      for (size_t k = 0; k < w.times.size(); ++k) {
+        const Eigen::Vector2d e = (predicted[k] - w.measured[k]) * norm;
+        sum += e.squaredNorm();
+        if (residuals != nullptr) {
+          (*residuals)[static_cast<Eigen::Index>(offsets[i] + 2 * k)] = e.x();
+          (*residuals)[static_cast<Eigen::Index>(offsets[i] + 2 * k + 1)] = e.y();
+        }
+      }
+      WindowScore& sc = (*scores)[i];
+      sc.path_error = std::sqrt(sum);
+      if (residuals != nullptr && sum > 0.0) {
+        // Soft-L1: the window's squares sum to robust_cost(path_error) instead of its square.
+        const double f = std::sqrt(robust_cost(sc.path_error) / sum);
+        residuals->segment(static_cast<Eigen::Index>(offsets[i]),
+                           static_cast<Eigen::Index>(offsets[i + 1] - offsets[i])) *= f;
+      }
+      // Percent of the distance travelled, at least the window's scale (5 cm), so that every
+      // window counts with one fixed denominator whatever the model predicts.
+      sc.end_pct = 100.0 * (predicted.back() - w.measured.back()).norm() / w.scale_m;
+      sc.predicted_travel_m = (predicted.back() - w.start.p_W).norm();
+    }
+  };
+  // Windows in contiguous chunks, one per thread: each window's figures are its own, so the
+  // result does not depend on the thread count.
+  const size_t n = which.size();
+  const size_t t = std::min<size_t>(threads_, std::max<size_t>(1, n / 4));
+  parallel_for(t, static_cast<int>(t), [&](size_t j) { work(n * j / t, n * (j + 1) / t); });
+}
+
+double sum_squares(const std::vector<WindowScore>& s) {
+  double sum = 0.0;
+  for (const WindowScore& w : s) sum += robust_cost(w.path_error);
+  return sum;
+}
+double mean_path_error(const std::vector<WindowScore>& s, const std::vector<char>& informative) {
+  std::vector<double> e;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (informative[i]) e.push_back(s[i].path_error);
+  }
+  if (e.empty()) return NAN;
+  const size_t mid = e.size() / 2;
+  std::nth_element(e.begin(), e.begin() + static_cast<long>(mid), e.end());
+  if (e.size() % 2 == 1) return e[mid];
+  const double upper = e[mid];
+  std::nth_element(e.begin(), e.begin() + static_cast<long>(mid) - 1, e.end());
+  return 0.5 * (upper + e[mid - 1]);
+}
+double end_mape(const std::vector<WindowScore>& s, size_t* n) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (const WindowScore& w : s) {
+    if (std::isfinite(w.end_pct)) {
+      sum += w.end_pct;
+      ++count;
+    }
+  }
+  if (n != nullptr) *n = count;
+  return count == 0 ? NAN : sum / static_cast<double>(count);
+}
+
+}  // namespace airtwin::discrepancy_detail

@@ -1,0 +1,74 @@
+#pragma once
+// The discrepancy analysis's evaluator (models/discrepancy.h, steps 1-2): every window predicted
+// under one set of model extensions, its normalised path error, end error and the residuals the
+// fits minimise, with the robust loss they use. Internal to the analysis.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "models/air_field.h"
+#include "models/discrepancy_windows.h"
+#include "models/extended_predictor.h"
+#include "models/model_extensions.h"
+
+namespace airtwin::discrepancy_detail {
+
+// The fits weigh each window's normalised path error e by the soft-L1 loss
+// rho(e) = 2 c^2 (sqrt(1 + (e / c)^2) - 1): quadratic below c, linear above, so that the few
+// windows where a start or a stop goes the other way (an object near its threshold) do not
+// dominate the fit. c = 0.25 of a window's scale.
+constexpr double kRobustScale = 0.25;
+double robust_cost(double e);
+
+// Per-window figures of one model.
+struct WindowScore {
+  double path_error = 0.0;          // RMS normalised position error
+  double end_pct = NAN;             // percent of the window's scale
+  double predicted_travel_m = 0.0;  // predicted displacement over the window
+};
+
+class Evaluator {
+ public:
+  Evaluator(const AirFieldModel& field, const WindowSet& ws, double step_s)
+      : predictor_(field, step_s), ws_(ws) {
+    const unsigned hw = std::thread::hardware_concurrency();
+    threads_ = std::clamp<unsigned>(hw == 0 ? 1 : hw, 1, 8);
+  }
+
+  const ExtendedPredictor& predictor() const { return predictor_; }
+
+  // Predicts windows `which` under `ext`: scores, and (optionally) the normalised residuals,
+  // 2 per sample, each divided by sqrt(samples) so that a window's squares sum to its
+  // path_error^2.
+  void evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
+                std::vector<WindowScore>* scores, Eigen::VectorXd* residuals) const;
+
+  size_t residual_count(const std::vector<size_t>& which) const {
+    size_t n = 0;
+    for (size_t i : which) n += 2 * ws_.windows[i].times.size();
+    return n;
+  }
+
+ private:
+  ExtendedPredictor predictor_;
+  const WindowSet& ws_;
+  unsigned threads_ = 1;
+};
+
+// The fits' cost: the robust sum over windows.
+double sum_squares(const std::vector<WindowScore>& s);
+// The typical path error: the median over the windows marked informative (robust to the same
+// few windows; windows where nothing moved and nothing was predicted to move, e.g. objects
+// parked in a zone for most of a closed-loop log, would make it 0 whatever the model).
+double mean_path_error(const std::vector<WindowScore>& s, const std::vector<char>& informative);
+// The mean end-position error in percent of the windows' scales over the finite ones (their
+// count in *n).
+double end_mape(const std::vector<WindowScore>& s, size_t* n = nullptr);
+
+}  // namespace airtwin::discrepancy_detail
