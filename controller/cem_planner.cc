@@ -221,6 +221,14 @@ double end_cost(const PlanningProblem& pr, const std::vector<Eigen::Vector2d>& e
   return sum;
 }
 
+// The stopping rule (section V-A): the elites' spread below converged_variance_m2, the variance
+// along the line or, in the plane, the covariance's Frobenius norm. Otherwise the search stops
+// after max_iterations.
+bool cem_converged(const CemParameters& p, const Eigen::Matrix2d& sigma) {
+  const double spread = p.search == CemSearch::kLine ? sigma(0, 0) : sigma.norm();
+  return spread < p.converged_variance_m2;
+}
+
 // The planner's predictors: the fast one of eqs. (8)-(9), or the extended model's.
 struct Predictors {
   const FastPredictor& fast;
@@ -228,8 +236,8 @@ struct Predictors {
   const ExtendedPredictor* extended_predictor = nullptr;
 };
 
-// eq. (10) for candidate s, with the predictor's scratch; the end positions land in
-// scratch.end_W.
+// The cost of candidate s, eq. (10): the penalty when an object starts within delta_min of s or
+// the nozzle cannot produce s, else end_cost() of the predicted ends (in scratch.end_W).
 double evaluate(const AirFieldModel& model, const Predictors& predictors,
                 const CemParameters& params, const PlanningProblem& pr, const Eigen::Vector2d& s_W,
                 Scratch& scratch, NozzleOrientation* orientation, bool* feasible) {
@@ -465,8 +473,7 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     mu = mean;
     sigma = cov;
     result.iterations = it + 1;
-    const double spread = p.search == CemSearch::kLine ? sigma(0, 0) : sigma.norm();
-    if (spread < p.converged_variance_m2) {
+    if (cem_converged(p, sigma)) {
       result.converged = true;
       break;
     }
