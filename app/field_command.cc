@@ -1,8 +1,10 @@
-// airtwin field: the analytical air field (eqs. 1-3) for one nozzle orientation on a grid centred
-// on the origin, as CSV (x,y,vx,vy,speed) and optionally as a PNG picture.
+// airtwin field: the air on the floor for one nozzle orientation on a grid centred on the origin,
+// as CSV (x,y,vx,vy,speed) and optionally as a PNG picture: the analytical model (eqs. 1-3, the
+// default) or the CFD of the jet (data/cfd/, models/cfd_field.h).
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "app/cli_common.h"
@@ -10,6 +12,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "plots/field_plot.h"
 
 namespace airtwin::cli {
@@ -23,6 +26,9 @@ struct FieldArgs {
   double step_m = 0.02;
   std::string out;
   std::string png;
+  std::string source = "model";
+  std::string cfd_dir = "data/cfd";
+  double height_m = 0.015;
 };
 
 constexpr long kMaxGridPoints = 25'000'000;
@@ -37,10 +43,25 @@ void run_field(const FieldArgs& a) {
   require_range(a.extent_m, 1e-3, 100, "--extent", "a grid side in (0, 100] m");
   require_range(a.step_m, 1e-4, a.extent_m, "--step", "a grid step in [1e-4 m, extent]");
 
+  if (a.source != "model" && a.source != "cfd") {
+    throw UsageError("--source: expected model or cfd, got '" + a.source + "'");
+  }
+  const bool cfd = a.source == "cfd";
+  if (!cfd && (a.cfd_dir != "data/cfd" || a.height_m != 0.015)) {
+    throw UsageError("--cfd and --height need --source cfd");
+  }
+  if (cfd && !a.table.empty()) throw UsageError("--table is the model's; not with --source cfd");
+  require_range(a.height_m, 1e-4, 0.1, "--height", "a height above the floor in (0, 0.1] m");
+  const NozzleOrientation orientation{deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)};
   const AirFieldModel model = a.table.empty()
                                   ? AirFieldModel::with_default_table()
                                   : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
-  const OrientedField field = model.at({deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)});
+  const OrientedField field = model.at(orientation);
+  std::optional<CfdField> cfd_field;
+  if (cfd) {
+    cfd_field = CfdField::read_dir(a.cfd_dir);
+    cfd_field->stagnation_point(orientation);  // a tilt outside the cases: one clear error now
+  }
 
   // A symmetric grid through the origin: nodes at k * step, |k * step| <= extent / 2.
   const long half = static_cast<long>(std::floor(0.5 * a.extent_m / a.step_m + 1e-9));
@@ -67,7 +88,13 @@ void run_field(const FieldArgs& a) {
   char line[128];
   for (long j = 0; j < n; ++j) {
     p.row(1).setConstant(grid.y[j]);
-    field.velocities(p, v);
+    if (cfd) {
+      for (long i = 0; i < n; ++i) {
+        v.col(i) = cfd_field->at(orientation, p.col(i), a.height_m).u_W;
+      }
+    } else {
+      field.velocities(p, v);
+    }
     for (long i = 0; i < n; ++i) {
       const double vx = v(0, i), vy = v(1, i), speed = std::hypot(vx, vy);
       grid.vx(j, i) = vx;
@@ -80,19 +107,21 @@ void run_field(const FieldArgs& a) {
   }
   write_text_file(a.out, csv);
 
-  const Eigen::Vector2d s = field.stagnation_point(), c = field.projection_point();
+  const Eigen::Vector2d s = cfd ? cfd_field->stagnation_point(orientation)
+                                : field.stagnation_point(),
+                        c = field.projection_point();
   std::printf(
-      "field: pan %.3f deg, tilt %.3f deg: c = (%.4f, %.4f) m, s = (%.4f, %.4f) m, "
+      "field (%s): pan %.3f deg, tilt %.3f deg: c = (%.4f, %.4f) m, s = (%.4f, %.4f) m, "
       "max speed %.3f m/s on %ldx%ld grid -> %s\n",
-      a.pan_deg, a.tilt_deg, c.x(), c.y(), s.x(), s.y(), grid.speed.maxCoeff(), n, n,
-      a.out.c_str());
+      a.source.c_str(), a.pan_deg, a.tilt_deg, c.x(), c.y(), s.x(), s.y(), grid.speed.maxCoeff(), n,
+      n, a.out.c_str());
   if (!a.png.empty()) {
     plots::FieldMarks marks;
     marks.stagnation_W = s;
     marks.projection_W = c;
     char title[128];
-    std::snprintf(title, sizeof title, "air field, pan %.1f deg, tilt %.1f deg", a.pan_deg,
-                  a.tilt_deg);
+    std::snprintf(title, sizeof title, "air field (%s), pan %.1f deg, tilt %.1f deg",
+                  a.source.c_str(), a.pan_deg, a.tilt_deg);
     marks.title = title;
     ensure_parent_dir(a.png);
     plots::write_field_png(grid, marks, a.png);
@@ -118,6 +147,16 @@ void add_field_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--step", args->step_m, "Grid spacing in metres")->capture_default_str();
   sub->add_option("--out", args->out, "Output CSV file")->required();
+  sub->add_option(
+         "--source", args->source,
+         "model: eqs. (1)-(3) with the table; cfd: the jet's CFD (data/cfd/, docs/cfd.md), "
+         "interpolated between its tilts")
+      ->capture_default_str();
+  sub->add_option("--cfd", args->cfd_dir, "With --source cfd: the folder of CFD cases")
+      ->capture_default_str();
+  sub->add_option("--height", args->height_m,
+                  "With --source cfd: height above the floor in metres (the data: 4-25 mm)")
+      ->capture_default_str();
   sub->add_option("--png", args->png, "Also write a picture of the field (PNG)");
   sub->callback([args] { run_field(*args); });
 }

@@ -11,6 +11,7 @@
 #include "common/csv.h"
 #include "common/units.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "models/nozzle_geometry.h"
 #include "tests/app/cli_runner.h"
 
@@ -79,6 +80,32 @@ TEST(Cli, FieldWritesTheModelsNumbers) {
   EXPECT_TRUE(saw_origin);
   EXPECT_GT(max_speed, 2.5);
   EXPECT_LT(max_speed, 3.41);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, FieldFromTheCfdWritesTheCfdsNumbers) {
+  const std::string dir = scratch_dir("field_cfd");
+  const std::string cfd = std::string(AIRTWIN_SOURCE_DIR) + "/data/cfd";
+  const auto r = run_airtwin("field --source cfd --cfd " + cfd +
+                             " --pan -60 --tilt 26 --height 0.01 --extent 2 --step 0.1 --out " +
+                             dir + "/f.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("field (cfd)"), std::string::npos) << r.out;
+  const CsvTable csv = CsvTable::read_file(dir + "/f.csv", {"x", "y", "vx", "vy", "speed"});
+  ASSERT_EQ(csv.rows(), 21u * 21u);
+  const CfdField field = CfdField::read_dir(cfd);
+  const NozzleOrientation o{deg_to_rad(-60), deg_to_rad(26)};
+  for (size_t i = 0; i < csv.rows(); i += 7) {
+    const Eigen::Vector2d v = field.at(o, {csv.number(i, "x"), csv.number(i, "y")}, 0.01).u_W;
+    EXPECT_NEAR(csv.number(i, "vx"), v.x(), 2e-6);
+    EXPECT_NEAR(csv.number(i, "vy"), v.y(), 2e-6);
+  }
+  expect_failure("field --source cfd --cfd " + cfd + " --pan 0 --tilt 62 --out " + dir + "/o.csv",
+                 1, "outside the cases'");
+  expect_failure("field --source cfd --cfd " + dir + " --pan 0 --tilt 10 --out " + dir + "/o.csv",
+                 1, "no CFD case");
+  expect_failure("field --source wind --pan 0 --tilt 10 --out x.csv", 2, "--source");
+  expect_failure("field --height 0.01 --pan 0 --tilt 10 --out x.csv", 2, "--source cfd");
   std::filesystem::remove_all(dir);
 }
 

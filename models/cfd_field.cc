@@ -1,0 +1,284 @@
+#include "models/cfd_field.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/errors.h"
+#include "common/units.h"
+
+namespace airtwin {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+constexpr const char* kFormat = "airtwin-cfd-floor 1";
+
+const Json& member(const Json& j, const std::string& key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw InputError(where + ": missing field '" + key + "'");
+  return j[key];
+}
+
+double number(const Json& j, const std::string& key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>())) {
+    throw InputError(where + ": field '" + key + "' must be a finite number");
+  }
+  return v.get<double>();
+}
+
+long count(const Json& j, const std::string& key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number_integer() || v.get<long>() < 2) {
+    throw InputError(where + ": field '" + key + "' must be an integer >= 2");
+  }
+  return v.get<long>();
+}
+
+}  // namespace
+
+CfdCase CfdCase::read(const std::string& header_path) {
+  static_assert(std::endian::native == std::endian::little, "the CFD data are little-endian");
+  std::ifstream in(header_path);
+  if (!in) throw InputError(header_path + ": cannot open");
+  std::ostringstream text;
+  text << in.rdbuf();
+  Json h;
+  try {
+    h = Json::parse(text.str());
+  } catch (const Json::parse_error& e) {
+    throw InputError(header_path + ": not JSON (" + e.what() + ")");
+  }
+  const std::string& where = header_path;
+  const Json& format = member(h, "format", where);
+  if (!format.is_string() || format.get<std::string>() != kFormat) {
+    throw InputError(where + ": format: expected \"" + std::string(kFormat) + "\"");
+  }
+  CfdCase c;
+  c.name_ = member(h, "case", where).is_string() ? h["case"].get<std::string>() : "";
+  const double tilt_deg = number(h, "tilt_deg", where);
+  if (!(tilt_deg >= 0.0 && tilt_deg < 90.0)) {
+    throw InputError(where + ": tilt_deg must be in [0, 90), got " + std::to_string(tilt_deg));
+  }
+  c.tilt_rad_ = deg_to_rad(tilt_deg);
+  c.held_out_ = member(h, "held_out", where).is_boolean() && h["held_out"].get<bool>();
+  c.mesh_level_ = static_cast<int>(number(h, "mesh_level", where));
+  c.inlet_d_m_ = number(member(h, "inlet", where), "diameter_m", where + ": inlet");
+  const Json& s = member(h, "stagnation_point_s_m", where);
+  if (!s.is_array() || s.size() != 2 || !s[0].is_number()) {
+    throw InputError(where + ": stagnation_point_s_m must be [x, y] in metres");
+  }
+  c.s_x_m_ = s[0].get<double>();
+  const Json& ambient = member(h, "ambient", where);
+  c.k_ambient_ = number(ambient, "k_m2_s2", where + ": ambient");
+  c.epsilon_ambient_ = number(ambient, "epsilon_m2_s3", where + ": ambient");
+
+  const std::string gw = where + ": grid";
+  const Json& g = member(h, "grid", where);
+  c.x0_m_ = number(g, "x0_m", gw);
+  c.dx_m_ = number(g, "dx_m", gw);
+  c.nx_ = count(g, "nx", gw);
+  c.y0_m_ = number(g, "y0_m", gw);
+  c.dy_m_ = number(g, "dy_m", gw);
+  c.ny_ = count(g, "ny", gw);
+  if (!(c.dx_m_ > 0.0 && c.dy_m_ > 0.0)) throw InputError(gw + ": dx_m and dy_m must be > 0");
+  for (const Json& z : member(g, "heights_m", gw)) {
+    if (!z.is_number() || !(z.get<double>() > 0.0)) {
+      throw InputError(gw + ": heights_m must be positive numbers");
+    }
+    c.heights_m_.push_back(z.get<double>());
+  }
+  if (c.heights_m_.empty() || !std::is_sorted(c.heights_m_.begin(), c.heights_m_.end())) {
+    throw InputError(gw + ": heights_m must be a non-empty increasing list");
+  }
+  const Json& fields = member(h, "fields", where);
+  std::map<std::string, int> index;
+  for (size_t i = 0; i < fields.size(); ++i) {
+    if (fields[i].is_string()) index[fields[i].get<std::string>()] = static_cast<int>(i);
+  }
+  for (const char* needed : {"ux", "uy", "k", "epsilon"}) {
+    if (!index.count(needed)) {
+      throw InputError(where + ": fields: no '" + std::string(needed) + "' among them");
+    }
+  }
+  c.n_fields_ = static_cast<int>(fields.size());
+  c.ux_ = index["ux"];
+  c.uy_ = index["uy"];
+  c.k_ = index["k"];
+  c.epsilon_ = index["epsilon"];
+  const Json& dtype = member(h, "dtype", where);
+  const Json& order = member(h, "byte_order", where);
+  if (dtype != "float32" || order != "little") {
+    throw InputError(where + ": expected dtype float32 and byte_order little");
+  }
+
+  // The data: [height][field][iy][ix] float32, little-endian.
+  const Json& file = member(h, "data_file", where);
+  if (!file.is_string()) throw InputError(where + ": data_file must be a file name");
+  const std::string data_path =
+      (fs::path(header_path).parent_path() / file.get<std::string>()).string();
+  const size_t n = c.heights_m_.size() * static_cast<size_t>(c.n_fields_) *
+                   static_cast<size_t>(c.ny_) * static_cast<size_t>(c.nx_);
+  std::ifstream d(data_path, std::ios::binary);
+  if (!d) throw InputError(data_path + ": cannot open (named by " + header_path + ")");
+  std::error_code ec;
+  const auto size = fs::file_size(data_path, ec);
+  if (ec || size != n * sizeof(float)) {
+    throw InputError(data_path + ": expected " + std::to_string(n * sizeof(float)) +
+                     " bytes (the header's grid), found " + (ec ? "none" : std::to_string(size)));
+  }
+  c.data_.resize(n);
+  d.read(reinterpret_cast<char*>(c.data_.data()), static_cast<std::streamsize>(n * sizeof(float)));
+  if (!d) throw InputError(data_path + ": cannot read");
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(c.data_[i])) {
+      throw InputError(data_path + ": value " + std::to_string(i) + " is not finite");
+    }
+  }
+  return c;
+}
+
+float CfdCase::value(size_t height, int field, long iy, long ix) const {
+  return data_[((height * static_cast<size_t>(n_fields_) + static_cast<size_t>(field)) *
+                    static_cast<size_t>(ny_) +
+                static_cast<size_t>(iy)) *
+                   static_cast<size_t>(nx_) +
+               static_cast<size_t>(ix)];
+}
+
+CfdSample CfdCase::at_height(size_t height, double x_m, double y_abs_m) const {
+  const double fx = (x_m - x0_m_) / dx_m_, fy = (y_abs_m - y0_m_) / dy_m_;
+  CfdSample out;
+  if (!(fx >= 0.0 && fy >= 0.0 && fx <= static_cast<double>(nx_ - 1) &&
+        fy <= static_cast<double>(ny_ - 1))) {
+    out.k = k_ambient_;
+    out.epsilon = epsilon_ambient_;
+    return out;  // still air outside the grid
+  }
+  const long ix = std::min(static_cast<long>(fx), nx_ - 2);
+  const long iy = std::min(static_cast<long>(fy), ny_ - 2);
+  const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
+  auto bilinear = [&](int f) {
+    const double v00 = value(height, f, iy, ix), v10 = value(height, f, iy, ix + 1);
+    const double v01 = value(height, f, iy + 1, ix), v11 = value(height, f, iy + 1, ix + 1);
+    return (1.0 - ty) * ((1.0 - tx) * v00 + tx * v10) + ty * ((1.0 - tx) * v01 + tx * v11);
+  };
+  out.u_W = {bilinear(ux_), bilinear(uy_)};
+  out.k = bilinear(k_);
+  out.epsilon = bilinear(epsilon_);
+  return out;
+}
+
+CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
+  const double y_abs = std::abs(y_m);
+  size_t lo = 0;
+  double t = 0.0;
+  if (z_m >= heights_m_.back()) {
+    lo = heights_m_.size() - 1;
+  } else if (z_m > heights_m_.front()) {
+    while (heights_m_[lo + 1] < z_m) ++lo;
+    t = (z_m - heights_m_[lo]) / (heights_m_[lo + 1] - heights_m_[lo]);
+  }
+  CfdSample out = at_height(lo, x_m, y_abs);
+  if (t > 0.0) {
+    const CfdSample up = at_height(lo + 1, x_m, y_abs);
+    out.u_W = (1.0 - t) * out.u_W + t * up.u_W;
+    out.k = (1.0 - t) * out.k + t * up.k;
+    out.epsilon = (1.0 - t) * out.epsilon + t * up.epsilon;
+  }
+  if (y_m < 0.0) out.u_W.y() = -out.u_W.y();  // the mirror image
+  return out;
+}
+
+CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry)
+    : cases_(std::move(cases)), geometry_(geometry) {
+  if (cases_.empty()) throw InputError("CFD field: no case");
+  std::sort(cases_.begin(), cases_.end(),
+            [](const CfdCase& a, const CfdCase& b) { return a.tilt_rad() < b.tilt_rad(); });
+  for (size_t i = 1; i < cases_.size(); ++i) {
+    if (cases_[i].tilt_rad() == cases_[i - 1].tilt_rad()) {
+      throw InputError("CFD field: cases " + cases_[i - 1].name() + " and " + cases_[i].name() +
+                       " have the same tilt");
+    }
+  }
+}
+
+CfdField CfdField::read_dir(const std::string& dir, int mesh_level, double inlet_diameter_m) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir + ": not a folder of CFD cases");
+  std::vector<std::string> headers;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() == ".json" && name.rfind("tilt", 0) == 0) {
+      headers.push_back(entry.path().string());
+    }
+  }
+  std::sort(headers.begin(), headers.end());
+  std::vector<CfdCase> cases;
+  for (const std::string& path : headers) {
+    CfdCase c = CfdCase::read(path);
+    if (c.held_out() || c.mesh_level() != mesh_level ||
+        std::abs(c.inlet_diameter_m() - inlet_diameter_m) > 1e-9) {
+      continue;
+    }
+    cases.push_back(std::move(c));
+  }
+  if (cases.empty()) {
+    throw InputError(dir + ": no CFD case of mesh level " + std::to_string(mesh_level) +
+                     " and inlet " + std::to_string(inlet_diameter_m) + " m (docs/cfd.md)");
+  }
+  return CfdField(std::move(cases));
+}
+
+CfdField::Bracket CfdField::bracket(double tilt_rad) const {
+  const double lo_t = min_tilt_rad(), hi_t = max_tilt_rad();
+  if (!(tilt_rad >= lo_t - 1e-12 && tilt_rad <= hi_t + 1e-12)) {
+    throw InputError("CFD field: tilt " + std::to_string(rad_to_deg(tilt_rad)) +
+                     " deg is outside the cases' [" + std::to_string(rad_to_deg(lo_t)) + ", " +
+                     std::to_string(rad_to_deg(hi_t)) + "] deg");
+  }
+  Bracket b;
+  if (cases_.size() == 1) return {0, 0, 0.0, cases_[0].stagnation_x_m()};
+  while (b.lo + 2 < cases_.size() && cases_[b.lo + 1].tilt_rad() < tilt_rad) ++b.lo;
+  b.hi = b.lo + 1;
+  const CfdCase &a = cases_[b.lo], &c = cases_[b.hi];
+  b.w = std::clamp((tilt_rad - a.tilt_rad()) / (c.tilt_rad() - a.tilt_rad()), 0.0, 1.0);
+  // s linear in |c| = h tan(tilt) between the two cases.
+  const double ca = std::tan(a.tilt_rad()), cc = std::tan(c.tilt_rad()),
+               ct = std::tan(std::clamp(tilt_rad, a.tilt_rad(), c.tilt_rad()));
+  const double ws = (ct - ca) / (cc - ca);
+  b.s_x = (1.0 - ws) * a.stagnation_x_m() + ws * c.stagnation_x_m();
+  return b;
+}
+
+Eigen::Vector2d CfdField::stagnation_point(const NozzleOrientation& o) const {
+  const double s = bracket(o.tilt_rad).s_x;
+  return s * Eigen::Vector2d(std::cos(o.pan_rad), std::sin(o.pan_rad));
+}
+
+CfdSample CfdField::at(const NozzleOrientation& o, const Eigen::Vector2d& p_W, double z_m) const {
+  const Bracket b = bracket(o.tilt_rad);
+  const double c = std::cos(o.pan_rad), s = std::sin(o.pan_rad);
+  // The point in the case frame (pan 0), relative to the interpolated s.
+  const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
+  const CfdCase& lo = cases_[b.lo];
+  CfdSample out = lo.at(x - b.s_x + lo.stagnation_x_m(), y, z_m);
+  if (b.hi != b.lo && b.w > 0.0) {
+    const CfdCase& hi = cases_[b.hi];
+    const CfdSample up = hi.at(x - b.s_x + hi.stagnation_x_m(), y, z_m);
+    out.u_W = (1.0 - b.w) * out.u_W + b.w * up.u_W;
+    out.k = (1.0 - b.w) * out.k + b.w * up.k;
+    out.epsilon = (1.0 - b.w) * out.epsilon + b.w * up.epsilon;
+  }
+  // Back to the world frame.
+  out.u_W = Eigen::Vector2d(c * out.u_W.x() - s * out.u_W.y(), s * out.u_W.x() + c * out.u_W.y());
+  return out;
+}
+
+}  // namespace airtwin

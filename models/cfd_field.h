@@ -1,0 +1,108 @@
+#pragma once
+// The jet's air on the floor from the CFD campaign (data/cfd/, docs/cfd.md): steady RANS
+// k-epsilon solutions of the rig's jet, one per tilt, sampled on a 1 cm grid at a few heights above
+// the floor. The twin's air comes from here; the controller's model (models/air_field.h, eqs. 1-3)
+// is fitted to it, as the paper fitted eq. (3) to its CFD.
+//
+// Frames. Each case is computed at pan 0: the nozzle exit 1.43 m above the origin, the jet tilted
+// toward +x, the stagnation point s on the +x axis. The data cover x in [-1.5, 1.5] m and
+// y in [0, 1.5] m; the field at (x, -y) is the mirror image (ux, -uy, k, epsilon). A nozzle
+// orientation (pan theta, tilt phi) rotates the case by theta about the vertical.
+//
+// Between tilts. For a tilt between two cases, s is interpolated linearly in |c| = h tan(phi)
+// between the cases' stagnation points (within 0.9 cm of the held-out 37.5 deg case), each case's
+// field is shifted along x to put its s there, and the two are mixed linearly in tilt (docs/cfd.md:
+// 1.8 % MAPE of the held-out floor speed when anchored at its true s). Outside the grid the air is
+// still (velocity 0) with the ambient turbulence of the case.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "models/nozzle_geometry.h"
+
+namespace airtwin {
+
+/// The mean air and its turbulence at one point.
+struct CfdSample {
+  Eigen::Vector2d u_W = Eigen::Vector2d::Zero();  ///< horizontal mean velocity (m/s)
+  double k = 0.0;                                 ///< turbulence kinetic energy (m^2/s^2)
+  double epsilon = 0.0;                           ///< its dissipation rate (m^2/s^3)
+};
+
+/// One CFD case: one tilt at pan 0, in the case frame (see above). Immutable.
+class CfdCase {
+ public:
+  /// Reads a case from its JSON header (format "airtwin-cfd-floor 1") and the float32 data file it
+  /// names, beside it. InputError naming the file and the field or value when the header lacks a
+  /// field, the data file has the wrong size, or a value is not finite.
+  static CfdCase read(const std::string& header_path);
+
+  double tilt_rad() const { return tilt_rad_; }
+  /// The stagnation point's x in the case frame (m; s is on the +x axis).
+  double stagnation_x_m() const { return s_x_m_; }
+  const std::string& name() const { return name_; }
+  bool held_out() const { return held_out_; }
+  int mesh_level() const { return mesh_level_; }
+  double inlet_diameter_m() const { return inlet_d_m_; }
+  const std::vector<double>& heights_m() const { return heights_m_; }
+
+  /// The field at (x, y) of the case frame and height z: bilinear on the grid, linear between
+  /// heights (clamped to the lowest and highest), mirrored for y < 0; still air outside the grid.
+  CfdSample at(double x_m, double y_m, double z_m) const;
+
+ private:
+  float value(size_t height, int field, long iy, long ix) const;
+  CfdSample at_height(size_t height, double x_m, double y_abs_m) const;
+
+  std::string name_;
+  double tilt_rad_ = 0.0;
+  double s_x_m_ = 0.0;
+  bool held_out_ = false;
+  int mesh_level_ = 0;
+  double inlet_d_m_ = 0.0;
+  double x0_m_ = 0.0, y0_m_ = 0.0, dx_m_ = 0.0, dy_m_ = 0.0;
+  long nx_ = 0, ny_ = 0;
+  int n_fields_ = 0;
+  int ux_ = 0, uy_ = 0, k_ = 0, epsilon_ = 0;  // indices of the fields in the data
+  std::vector<double> heights_m_;
+  double k_ambient_ = 0.0, epsilon_ambient_ = 0.0;
+  std::vector<float> data_;  // [height][field][iy][ix]
+};
+
+/// The CFD air for any nozzle orientation within the cases' tilt range. Immutable; any number of
+/// threads may query one.
+class CfdField {
+ public:
+  /// Reads every case in `dir` of the given mesh level and inlet diameter, the held-out tilt left
+  /// out (it is for testing the interpolation). InputError when none is found, two share a tilt, or
+  /// a case cannot be read.
+  static CfdField read_dir(const std::string& dir, int mesh_level = 1,
+                           double inlet_diameter_m = 0.02);
+  /// From cases already read (any order; at least one).
+  explicit CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry = {});
+
+  double min_tilt_rad() const { return cases_.front().tilt_rad(); }
+  double max_tilt_rad() const { return cases_.back().tilt_rad(); }
+  const std::vector<CfdCase>& cases() const { return cases_; }
+
+  /// The stagnation point of orientation `o` (m, world frame). InputError when the tilt is outside
+  /// [min_tilt_rad, max_tilt_rad].
+  Eigen::Vector2d stagnation_point(const NozzleOrientation& o) const;
+  /// The air at floor point p_W (m) and height z_m under orientation `o` (see the top of this
+  /// file). InputError when the tilt is outside the cases' range.
+  CfdSample at(const NozzleOrientation& o, const Eigen::Vector2d& p_W, double z_m) const;
+
+ private:
+  struct Bracket {
+    size_t lo = 0, hi = 0;
+    double w = 0.0;    // weight of `hi`, linear in tilt
+    double s_x = 0.0;  // the interpolated stagnation point on the case frame's +x axis
+  };
+  Bracket bracket(double tilt_rad) const;
+
+  std::vector<CfdCase> cases_;  // by tilt
+  NozzleGeometry geometry_;
+};
+
+}  // namespace airtwin
