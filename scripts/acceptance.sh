@@ -14,7 +14,7 @@
 # Writes OUT/summary.md (default results/acceptance/) with the figures and the stage times;
 # docs/testing.md keeps the latest. Exit 1 when any check fails; the summary says which.
 # Usage: bash scripts/acceptance.sh [--seeds N] [--vision-seeds M] [--test-seeds "S1 S2 ..."]
-#                                   [--gain] [--out DIR]
+#                                   [--stages "closed-loop discrepancy sweep"] [--gain] [--out DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,6 +22,7 @@ seeds=30
 vision_seeds=20
 test_seeds="1 2 3"
 gain=0
+stages="closed-loop discrepancy sweep"
 out=results/acceptance
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -29,11 +30,20 @@ while [ $# -gt 0 ]; do
     --vision-seeds) vision_seeds=$2; shift 2 ;;
     --test-seeds) test_seeds=$2; shift 2 ;;
     --gain) gain=1; shift ;;
+    --stages) stages=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "acceptance.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
+for st in $stages; do
+  case "$st" in
+    closed-loop | discrepancy | sweep) ;;
+    *) echo "acceptance.sh: --stages: unknown stage '$st' (closed-loop, discrepancy, sweep)" >&2
+       exit 2 ;;
+  esac
+done
+wants() { [[ " $stages " == *" $1 "* ]]; }
 for n in "$seeds" "$vision_seeds"; do
   case "$n" in
     '' | *[!0-9]* | 0) echo "acceptance.sh: a seed count must be a positive integer, got '$n'" >&2
@@ -140,9 +150,9 @@ gain_stage() {
 }
 
 stage "release build" build
-stage "closed loop" closed_loop
-stage discrepancy discrepancy
-stage sweep sweep
+if wants closed-loop; then stage "closed loop" closed_loop; fi
+if wants discrepancy; then stage discrepancy discrepancy; fi
+if wants sweep; then stage sweep sweep; fi
 if [ "$gain" = 1 ]; then stage gain gain_stage; fi
 
 {
