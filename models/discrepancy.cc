@@ -34,6 +34,188 @@ void DiscrepancyOptions::validate() const {
   nozzle.validate();
 }
 
+namespace {
+
+// The split: windows drawn at random (seeded) into the held-out part; the rest train.
+void split_windows(const DiscrepancyOptions& o, WindowSet* ws, std::vector<size_t>* train,
+                   std::vector<size_t>* held) {
+  std::vector<size_t> order(ws->windows.size());
+  std::iota(order.begin(), order.end(), 0);
+  RandomStream rng(o.seed, RandomPurpose::kAnalysis, 0);
+  for (size_t i = order.size(); i > 1; --i) {
+    const size_t j = std::min(i - 1, static_cast<size_t>(rng.uniform(0.0, static_cast<double>(i))));
+    std::swap(order[i - 1], order[j]);
+  }
+  const size_t n_held =
+      static_cast<size_t>(std::llround(o.holdout_fraction * static_cast<double>(order.size())));
+  for (size_t i = 0; i < order.size(); ++i) {
+    ws->windows[order[i]].train = i >= n_held;
+  }
+  for (size_t i = 0; i < ws->windows.size(); ++i) {
+    (ws->windows[i].train ? *train : *held).push_back(i);
+  }
+}
+
+// The nominal model on every window and on the held-out part, into `report`. Returns which
+// held-out windows are informative: the object moved at least 1 cm, or the nominal model moved it.
+std::vector<char> baseline(const Evaluator& ev, const WindowSet& ws,
+                           const std::vector<size_t>& train, const std::vector<size_t>& held,
+                           DiscrepancyReport* report) {
+  std::vector<size_t> all(ws.windows.size());
+  std::iota(all.begin(), all.end(), 0);
+  const ModelExtensions nominal;
+  std::vector<WindowScore> base_all, base_held, base_train;
+  ev.evaluate(nominal, all, &base_all, nullptr);
+  report->baseline_end_mape_all = end_mape(base_all);
+  double cm_sum = 0.0, cm_max = 0.0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    const double cm = 100.0 * base_all[i].path_error * ws.windows[i].scale_m;
+    cm_sum += cm;
+    cm_max = std::max(cm_max, cm);
+  }
+  report->baseline_path_error_cm_mean =
+      all.empty() ? NAN : cm_sum / static_cast<double>(all.size());
+  report->baseline_path_error_cm_max = cm_max;
+  for (size_t i : held) base_held.push_back(base_all[i]);
+  for (size_t i : train) base_train.push_back(base_all[i]);
+  report->baseline_end_mape = end_mape(base_held, &report->n_mape_windows);
+  std::vector<char> informative;
+  for (size_t k = 0; k < held.size(); ++k) {
+    informative.push_back(ws.windows[held[k]].path_m >= 0.01 ||
+                          base_held[k].predicted_travel_m >= 0.01);
+  }
+  report->baseline_path_error = mean_path_error(base_held, informative);
+  return informative;
+}
+
+// What the data can decide, stated in report->notes: too few windows (report->decidable false),
+// one tilt only, no command change (response_delay left out). Returns the candidates' names.
+std::vector<std::string> decidable_candidates(const WindowSet& ws, size_t n_held,
+                                              const DiscrepancyOptions& o,
+                                              DiscrepancyReport* report) {
+  report->decidable = true;
+  if (ws.windows.size() < o.min_windows) {
+    report->decidable = false;
+    report->notes.push_back("Only " + std::to_string(ws.windows.size()) +
+                            " usable windows: at least " + std::to_string(o.min_windows) +
+                            " are needed to tell a cause from chance; nothing is decided.");
+  } else if (n_held < o.min_heldout_windows) {
+    report->decidable = false;
+    report->notes.push_back("Only " + std::to_string(n_held) + " held-out windows: at least " +
+                            std::to_string(o.min_heldout_windows) +
+                            " are needed for the significance test; nothing is decided.");
+  }
+  bool any_change = false;
+  for (const Window& w : ws.windows) any_change = any_change || w.command_changes;
+  if (report->tilts_deg.size() == 1) {
+    report->notes.push_back("All data were recorded at one tilt (" +
+                            fixed(report->tilts_deg.front(), 1) +
+                            " deg): causes are fitted at that tilt only; how they depend on the "
+                            "tilt cannot be checked.");
+  }
+  std::vector<std::string> names;
+  for (const EffectSpec& e : effect_catalogue()) {
+    if (e.id == EffectId::kResponseDelay && !any_change) {
+      report->notes.push_back(
+          "response_delay cannot be decided: no window records a change of the nozzle command "
+          "(record a lead-in before each re-aim, or analyse a closed-loop log).");
+      continue;
+    }
+    names.push_back(e.name);
+  }
+  return names;
+}
+
+// The state of the forward selection: the causes chosen so far and the model with them.
+struct Selection {
+  std::vector<std::string> chosen;
+  ModelExtensions base;           // nominal + the nuisance
+  ModelExtensions current;        // base + the chosen causes
+  std::vector<double> current_x;  // fit coordinates of the chosen extensions
+  std::vector<WindowScore> cur_train, cur_held;
+};
+
+// Candidate `name` fitted on top of the chosen causes and scored on the held-out windows.
+CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
+                                const std::vector<size_t>& train, const std::vector<size_t>& held,
+                                const std::vector<char>& informative, const Selection& sel,
+                                const std::string& name, double threshold,
+                                const DiscrepancyOptions& o) {
+  const double base_sse = sum_squares(sel.cur_train);
+  const double base_err = mean_path_error(sel.cur_held, informative);
+  std::vector<std::string> fit_names = sel.chosen;
+  fit_names.push_back(name);
+  const bool nuisance =
+      std::find(fit_names.begin(), fit_names.end(), "stiction") == fit_names.end();
+  const FitResult fit =
+      fit_extensions(ev, train, sel.base, fit_names, sel.current_x, o.max_iterations, nuisance);
+  CandidateResult c;
+  c.name = name;
+  c.params = extension_values(fit.ext, name);
+  c.train_sse = fit.sse;
+  c.fit_evaluations = fit.evaluations;
+  const int k = static_cast<int>(fit_box(name).lo.size());
+  c.delta_bic = bic(fit.sse, train.size(), k) - bic(base_sse, train.size(), 0);
+  std::vector<WindowScore> h;
+  ev.evaluate(fit.ext, held, &h, nullptr);
+  // Differences of the RMS path error below what the data resolve are ties at zero: they say
+  // nothing either way, and an effect that acts only in part of the floor (a push near s) would
+  // otherwise drown in the noise of the windows it does not touch.
+  std::vector<double> d(held.size());
+  for (size_t i = 0; i < held.size(); ++i) {
+    const double diff = sel.cur_held[i].path_error - h[i].path_error;
+    const double diff_m = diff * ws.windows[held[i]].scale_m;
+    d[i] = std::abs(diff_m) < kResolvedDifference_m ? 0.0 : diff;
+  }
+  c.p_value = wilcoxon_greater(d);
+  c.heldout_path_error = mean_path_error(h, informative);
+  c.heldout_end_mape = end_mape(h);
+  c.gain = 1.0 - c.heldout_path_error / base_err;
+  c.heldout_cost = sum_squares(h);
+  c.relevant = extension_size(fit.ext, name) > negligible_size(name);
+  c.significant =
+      c.delta_bic <= o.max_delta_bic && c.p_value < threshold && c.gain >= o.min_gain && c.relevant;
+  return c;
+}
+
+// Adds cause `found` (as its candidate fitted it) to the selection: the nuisance again under the
+// chosen causes (unless stiction itself is one), then every chosen extension refitted jointly on
+// top of it, starting from the candidate's fit; the joint fit is kept when it fits the training
+// windows better.
+void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
+               const std::vector<size_t>& held, const CandidateResult& found,
+               const DiscrepancyOptions& o, Selection* sel) {
+  sel->chosen.push_back(found.name);
+  ModelExtensions start = sel->current;
+  set_extension_values(&start, found.name, found.params);
+  if (std::find(sel->chosen.begin(), sel->chosen.end(), "stiction") == sel->chosen.end()) {
+    sel->base.static_friction_ratio = fit_ordinary_stiction(ev, train, start);
+    start.static_friction_ratio = sel->base.static_friction_ratio;
+  }
+  std::vector<double> x;
+  for (const std::string& name : sel->chosen) {
+    const std::vector<double> fx = fit_from_typed(name, extension_values(start, name));
+    x.insert(x.end(), fx.begin(), fx.end());
+  }
+  Eigen::VectorXd xv =
+      Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+  std::vector<WindowScore> before, after;
+  ev.evaluate(start, train, &before, nullptr);
+  refine_fit(ev, train, sel->base, sel->chosen, o.max_iterations, &xv);
+  const ModelExtensions joint = apply_fit(sel->base, sel->chosen, xv.data());
+  ev.evaluate(joint, train, &after, nullptr);
+  sel->current = xv.allFinite() && sum_squares(after) < sum_squares(before) ? joint : start;
+  sel->current_x.clear();
+  for (const std::string& name : sel->chosen) {
+    const std::vector<double> fx = fit_from_typed(name, extension_values(sel->current, name));
+    sel->current_x.insert(sel->current_x.end(), fx.begin(), fx.end());
+  }
+  ev.evaluate(sel->current, train, &sel->cur_train, nullptr);
+  ev.evaluate(sel->current, held, &sel->cur_held, nullptr);
+}
+
+}  // namespace
+
 DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldModel& field,
                                       const std::map<std::string, ObjectDynamics>& objects,
                                       const DiscrepancyOptions& o) {
@@ -46,147 +228,43 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   WindowSet ws = make_windows(set, objects, o);
   report.n_windows = ws.windows.size();
   report.tilts_deg.assign(ws.tilts_deg.begin(), ws.tilts_deg.end());
-
-  // The split: windows drawn at random (seeded) into the held-out part.
-  std::vector<size_t> order(ws.windows.size());
-  std::iota(order.begin(), order.end(), 0);
-  RandomStream rng(o.seed, RandomPurpose::kAnalysis, 0);
-  for (size_t i = order.size(); i > 1; --i) {
-    const size_t j = std::min(i - 1, static_cast<size_t>(rng.uniform(0.0, static_cast<double>(i))));
-    std::swap(order[i - 1], order[j]);
-  }
-  const size_t n_held =
-      static_cast<size_t>(std::llround(o.holdout_fraction * static_cast<double>(order.size())));
   std::vector<size_t> train, held;
-  for (size_t i = 0; i < order.size(); ++i) {
-    ws.windows[order[i]].train = i >= n_held;
-  }
-  for (size_t i = 0; i < ws.windows.size(); ++i) (ws.windows[i].train ? train : held).push_back(i);
+  split_windows(o, &ws, &train, &held);
   report.n_train_windows = train.size();
   report.n_heldout_windows = held.size();
-
   if (ws.n_short > 0) {
     report.notes.push_back(std::to_string(ws.n_short) +
                            " trajectories or windows were shorter than " +
                            fixed(o.min_window_s, 2) + " s (or 5 frames) and were not used.");
   }
   Evaluator ev(field, ws, o.predictor_step_s);
-
-  // Baseline on every window, and on the held-out part.
-  std::vector<size_t> all(ws.windows.size());
-  std::iota(all.begin(), all.end(), 0);
-  const ModelExtensions nominal;
-  std::vector<WindowScore> base_all, base_held, base_train;
-  say("baseline: predicting " + std::to_string(all.size()) + " windows with the nominal model");
-  ev.evaluate(nominal, all, &base_all, nullptr);
-  report.baseline_end_mape_all = end_mape(base_all);
-  double cm_sum = 0.0, cm_max = 0.0;
-  for (size_t i = 0; i < all.size(); ++i) {
-    const double cm = 100.0 * base_all[i].path_error * ws.windows[i].scale_m;
-    cm_sum += cm;
-    cm_max = std::max(cm_max, cm);
-  }
-  report.baseline_path_error_cm_mean = all.empty() ? NAN : cm_sum / static_cast<double>(all.size());
-  report.baseline_path_error_cm_max = cm_max;
-  for (size_t i : held) base_held.push_back(base_all[i]);
-  for (size_t i : train) base_train.push_back(base_all[i]);
-  report.baseline_end_mape = end_mape(base_held, &report.n_mape_windows);
-  // Informative held-out windows: the object moved at least 1 cm, or the nominal model moved it.
-  std::vector<char> informative;
-  for (size_t k = 0; k < held.size(); ++k) {
-    informative.push_back(ws.windows[held[k]].path_m >= 0.01 ||
-                          base_held[k].predicted_travel_m >= 0.01);
-  }
-  report.baseline_path_error = mean_path_error(base_held, informative);
+  say("baseline: predicting " + std::to_string(ws.windows.size()) +
+      " windows with the nominal model");
+  const std::vector<char> informative = baseline(ev, ws, train, held, &report);
   residual_structure(ev, ws, &report);
-
-  // What can be decided.
-  report.decidable = true;
-  if (ws.windows.size() < o.min_windows) {
-    report.decidable = false;
-    report.notes.push_back("Only " + std::to_string(ws.windows.size()) +
-                           " usable windows: at least " + std::to_string(o.min_windows) +
-                           " are needed to tell a cause from chance; nothing is decided.");
-  } else if (held.size() < o.min_heldout_windows) {
-    report.decidable = false;
-    report.notes.push_back("Only " + std::to_string(held.size()) + " held-out windows: at least " +
-                           std::to_string(o.min_heldout_windows) +
-                           " are needed for the significance test; nothing is decided.");
-  }
-  bool any_change = false;
-  for (const Window& w : ws.windows) any_change = any_change || w.command_changes;
-  if (report.tilts_deg.size() == 1) {
-    report.notes.push_back("All data were recorded at one tilt (" +
-                           fixed(report.tilts_deg.front(), 1) +
-                           " deg): causes are fitted at that tilt only; how they depend on the "
-                           "tilt cannot be checked.");
-  }
-  std::vector<std::string> names;
-  for (const EffectSpec& e : effect_catalogue()) {
-    if (std::string(e.name) == "response_delay" && !any_change) {
-      report.notes.push_back(
-          "response_delay cannot be decided: no window records a change of the nozzle command "
-          "(record a lead-in before each re-aim, or analyse a closed-loop log).");
-      continue;
-    }
-    names.push_back(e.name);
-  }
+  const std::vector<std::string> names = decidable_candidates(ws, held.size(), o, &report);
   if (!report.decidable) {
     report.extended_end_mape = report.baseline_end_mape;
     report.extended_path_error = report.baseline_path_error;
     return report;
   }
 
-  // Forward selection, every fit on top of the ordinary static friction (the nuisance).
+  // Forward selection, every fit on top of the ordinary static friction (the nuisance), each
+  // round's candidates tested at alpha corrected for their number.
   const double threshold = o.alpha / static_cast<double>(names.size());
-  std::vector<std::string> chosen;
-  ModelExtensions base = nominal;  // nominal + the nuisance
-  base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
-  ModelExtensions current = base;
-  std::vector<double> current_x;  // fit coordinates of the chosen extensions
-  std::vector<WindowScore> cur_train, cur_held;
-  ev.evaluate(current, train, &cur_train, nullptr);
-  ev.evaluate(current, held, &cur_held, nullptr);
+  const ModelExtensions nominal;
+  Selection sel;
+  sel.base = nominal;
+  sel.base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
+  sel.current = sel.base;
+  ev.evaluate(sel.current, train, &sel.cur_train, nullptr);
+  ev.evaluate(sel.current, held, &sel.cur_held, nullptr);
   for (int round = 0; round < o.max_found; ++round) {
     std::vector<CandidateResult> results;
-    const double base_sse = sum_squares(cur_train);
-    const double base_err = mean_path_error(cur_held, informative);
     for (const std::string& name : names) {
-      if (std::find(chosen.begin(), chosen.end(), name) != chosen.end()) continue;
+      if (std::find(sel.chosen.begin(), sel.chosen.end(), name) != sel.chosen.end()) continue;
       say("round " + std::to_string(round + 1) + ": fitting " + name);
-      std::vector<std::string> fit_names = chosen;
-      fit_names.push_back(name);
-      const bool nuisance =
-          std::find(fit_names.begin(), fit_names.end(), "stiction") == fit_names.end();
-      const FitResult fit =
-          fit_extensions(ev, train, base, fit_names, current_x, o.max_iterations, nuisance);
-      CandidateResult c;
-      c.name = name;
-      c.params = extension_values(fit.ext, name);
-      c.train_sse = fit.sse;
-      c.fit_evaluations = fit.evaluations;
-      const int k = static_cast<int>(fit_box(name).lo.size());
-      c.delta_bic = bic(fit.sse, train.size(), k) - bic(base_sse, train.size(), 0);
-      std::vector<WindowScore> h;
-      ev.evaluate(fit.ext, held, &h, nullptr);
-      // Differences of the RMS path error below what the data resolve are ties at zero: they
-      // say nothing either way, and an effect that acts only in part of the floor (a push near
-      // s) would otherwise drown in the noise of the windows it does not touch.
-      std::vector<double> d(held.size());
-      for (size_t i = 0; i < held.size(); ++i) {
-        const double diff = cur_held[i].path_error - h[i].path_error;
-        const double diff_m = diff * ws.windows[held[i]].scale_m;
-        d[i] = std::abs(diff_m) < kResolvedDifference_m ? 0.0 : diff;
-      }
-      c.p_value = wilcoxon_greater(d);
-      c.heldout_path_error = mean_path_error(h, informative);
-      c.heldout_end_mape = end_mape(h);
-      c.gain = 1.0 - c.heldout_path_error / base_err;
-      c.heldout_cost = sum_squares(h);
-      c.relevant = extension_size(fit.ext, name) > negligible_size(name);
-      c.significant = c.delta_bic <= o.max_delta_bic && c.p_value < threshold &&
-                      c.gain >= o.min_gain && c.relevant;
-      results.push_back(c);
+      results.push_back(score_candidate(ev, ws, train, held, informative, sel, name, threshold, o));
     }
     report.rounds.push_back(results);
     if (round == 0) report.candidates = results;
@@ -196,44 +274,15 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     }
     if (best == nullptr) break;
     say("found " + best->name);
-    chosen.push_back(best->name);
-    // The nuisance again under the chosen causes (unless stiction itself was chosen), then every
-    // chosen extension refitted jointly on top of it, starting from the candidate's fit.
-    ModelExtensions start = current;
-    set_extension_values(&start, best->name, best->params);
-    if (std::find(chosen.begin(), chosen.end(), "stiction") == chosen.end()) {
-      base.static_friction_ratio = fit_ordinary_stiction(ev, train, start);
-      start.static_friction_ratio = base.static_friction_ratio;
-    }
-    current_x.clear();
-    for (const std::string& name : chosen) {
-      const std::vector<double> fx = fit_from_typed(name, extension_values(start, name));
-      current_x.insert(current_x.end(), fx.begin(), fx.end());
-    }
-    {
-      Eigen::VectorXd xv = Eigen::Map<const Eigen::VectorXd>(
-          current_x.data(), static_cast<Eigen::Index>(current_x.size()));
-      std::vector<WindowScore> before, after;
-      ev.evaluate(start, train, &before, nullptr);
-      refine_fit(ev, train, base, chosen, o.max_iterations, &xv);
-      const ModelExtensions joint = apply_fit(base, chosen, xv.data());
-      ev.evaluate(joint, train, &after, nullptr);
-      current = xv.allFinite() && sum_squares(after) < sum_squares(before) ? joint : start;
-    }
-    current_x.clear();
-    for (const std::string& name : chosen) {
-      const std::vector<double> fx = fit_from_typed(name, extension_values(current, name));
-      current_x.insert(current_x.end(), fx.begin(), fx.end());
-    }
-    ev.evaluate(current, train, &cur_train, nullptr);
-    ev.evaluate(current, held, &cur_held, nullptr);
+    add_cause(ev, train, held, *best, o, &sel);
   }
-  report.found = chosen;
+  report.found = sel.chosen;
   // The extended model is the causes found, without the nuisance: scored as written. (No
   // nuisance when stiction is a cause: the ratio is then that cause's parameter.)
-  const bool stiction_found = std::find(chosen.begin(), chosen.end(), "stiction") != chosen.end();
-  report.nuisance_static_friction_ratio = stiction_found ? NAN : base.static_friction_ratio;
-  report.extensions = current;
+  const bool stiction_found =
+      std::find(sel.chosen.begin(), sel.chosen.end(), "stiction") != sel.chosen.end();
+  report.nuisance_static_friction_ratio = stiction_found ? NAN : sel.base.static_friction_ratio;
+  report.extensions = sel.current;
   if (!stiction_found) report.extensions.static_friction_ratio = 1.0;
   std::vector<WindowScore> extended_held;
   ev.evaluate(report.extensions, held, &extended_held, nullptr);
