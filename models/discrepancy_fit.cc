@@ -57,7 +57,7 @@ struct FitFunctor : Eigen::DenseFunctor<double> {
 FitBox fit_box(const std::string& name) {
   const EffectSpec& spec = find_effect(name);
   FitBox box;
-  if (name == "floor_slope") {
+  if (find_effect(name).id == EffectId::kFloorSlope) {
     const double m = spec.params[0].fit_max;
     return {{-m, -m}, {m, m}};
   }
@@ -70,14 +70,14 @@ FitBox fit_box(const std::string& name) {
 
 std::vector<double> typed_from_fit(const std::string& name, const double* x) {
   const size_t n = find_effect(name).params.size();
-  if (name == "floor_slope") {
+  if (find_effect(name).id == EffectId::kFloorSlope) {
     return {std::hypot(x[0], x[1]), rad_to_deg(std::atan2(x[1], x[0]))};
   }
   return std::vector<double>(x, x + n);
 }
 
 std::vector<double> fit_from_typed(const std::string& name, const std::vector<double>& v) {
-  if (name == "floor_slope") {
+  if (find_effect(name).id == EffectId::kFloorSlope) {
     const double d = deg_to_rad(v[1]);
     return {v[0] * std::cos(d), v[0] * std::sin(d)};
   }

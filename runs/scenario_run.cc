@@ -138,7 +138,7 @@ void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& f
   for (const auto& [name, xi] : model.objects) options->dynamics[name] = xi;
   bool beyond_scale = false;
   for (const std::string& name : active_extensions(model.extensions)) {
-    beyond_scale = beyond_scale || name != "field_scale";
+    beyond_scale = beyond_scale || find_effect(name).id != EffectId::kFieldScale;
   }
   options->planning_field.reset();
   options->planning_extensions.reset();
