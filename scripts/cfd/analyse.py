@@ -435,8 +435,9 @@ def markdown(out, names):
             L.append("| `%s` | %.2f, %.2f | %.2f, %.2f |" % (n, w["coefficient"], w["exponent"],
                                                           w["far"]["coefficient"], w["far"]["exponent"]))
         L.append("")
-        w = out["cases"][wj[0]]["walljet"]
-        L.append("`%s`:" % wj[0])
+        w0 = "tilt00.0_mesh1_d20" if "tilt00.0_mesh1_d20" in wj else wj[0]
+        w = out["cases"][w0]["walljet"]
+        L.append("`%s`:" % w0)
         L.append("")
         L.append("| r from c (m) | u_max (m/s) | its height (mm) | Poreh (m/s) | CFD / Poreh |")
         L.append("|---|---|---|---|---|")
