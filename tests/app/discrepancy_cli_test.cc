@@ -136,8 +136,10 @@ TEST(DiscrepancyCli, FindsQuadraticDrag) {
   expect_found({"quadratic_drag", {{"coefficient", 0.8, 1.5, false}}, {0.2}}, 24);
 }
 TEST(DiscrepancyCli, FindsFloorSlope) {
+  // From 4 deg: below, the slope trades off against the ordinary static friction (3.3 deg toward
+  // 238 deg fits as 4.4 deg; docs/decisions.md, 2026-11-25).
   expect_found({"floor_slope",
-                {{"angle_deg", 3.0, 5.0, false}, {"direction_deg", 0.0, 360.0, false}},
+                {{"angle_deg", 4.0, 5.0, false}, {"direction_deg", 0.0, 360.0, false}},
                 {0.2, 0.2}},
                25);
 }
