@@ -20,7 +20,7 @@ std::string number(double x) {
 
 // Runs `f`, prefixing any InputError's message with `where`.
 template <typename F>
-auto located(const std::string& where, F&& f) {
+decltype(auto) located(const std::string& where, F&& f) {
   try {
     return f();
   } catch (const InputError& e) {
