@@ -78,6 +78,7 @@ ordered_json batch_settings(const BatchArgs& a) {
   s["models"] = ordered_json::array();
   for (const std::string& m : f.models) s["models"].push_back(file_identity(m));
   s["effects"] = f.effects;
+  s["air"] = air_identity(f.air);
   s["logs"] = a.logs;
   // The program itself: another build may give other results, so it may not resume this batch.
   s["program"] = content_hash(read_text_file("/proc/self/exe"));

@@ -23,6 +23,7 @@ struct CalibrateArgs {
   std::string tilts = "0,22.5";
   std::string target;  // "xi1,xi2,xi3"; default: the paper's for the object
   std::string out;
+  AirFlags air;
   DynamicsCalibrationOptions options;
 };
 
@@ -53,6 +54,7 @@ void run_calibrate(CalibrateArgs a) {
     }
   }
   require_range(o.iterations, 1, 20, "--iterations", "a count in [1, 20]");
+  apply_air_flags(a.air, &o.collection.twin);
   ensure_parent_dir(a.out);
 
   const AirFieldModel field = AirFieldModel::with_default_table();
@@ -93,6 +95,7 @@ void run_calibrate(CalibrateArgs a) {
   const ObjectTypeParameters p = ObjectTypeParameters::from_dynamics(c.physics, 1.0, 1.0);
   const nlohmann::ordered_json j = {
       {"object", o.collection.object},
+      {"air", a.air.air},
       {"target", triple(o.target)},
       {"physics", triple(c.physics)},
       {"drag_rate_per_s", p.drag_rate_per_s},
@@ -138,6 +141,7 @@ void add_calibrate_dynamics_command(CLI::App& app) {
   sub->add_option("--skip-transient", o.identification.pairs.transient_s,
                   "Identification: seconds after the re-aim not used (see 'identify --help')")
       ->capture_default_str();
+  add_air_flags(sub, args->air);
   sub->add_option("--out", args->out, "Output JSON record")->required();
   sub->callback([args] { run_calibrate(*args); });
 }

@@ -3,11 +3,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <sstream>
 
 #include "common/csv.h"
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/cfd_field.h"
+#include "runs/batch_plan.h"
 
 namespace airtwin::cli {
 
@@ -78,6 +83,48 @@ std::vector<Effect> apply_effect_flags(const std::vector<std::string>& texts,
   } catch (const InputError& e) {
     throw UsageError(std::string("--effect: ") + e.what());
   }
+}
+
+void add_air_flags(CLI::App* sub, AirFlags& flags) {
+  sub->add_option("--air", flags.air,
+                  "The air the objects are in: cfd (the jet's CFD, data/cfd/, docs/cfd.md) or\n"
+                  "model (the controller's own analytical field, eqs. 1-3: a twin that mirrors\n"
+                  "the model)")
+      ->capture_default_str();
+  sub->add_option("--cfd", flags.cfd_dir,
+                  "With --air cfd: the folder of CFD cases (default: the shipped data/cfd)");
+}
+
+void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
+  if (flags.air == "model") {
+    if (flags.cfd_dir != AIRTWIN_CFD_DIR) throw UsageError("--cfd needs --air cfd");
+    twin->cfd_air.reset();
+    return;
+  }
+  if (flags.air != "cfd") throw UsageError("--air: expected cfd or model, got '" + flags.air + "'");
+  // One copy per folder in the process: a batch builds many twins from the same cases.
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const CfdField>> loaded;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::shared_ptr<const CfdField>& field = loaded[flags.cfd_dir];
+  if (!field) field = std::make_shared<const CfdField>(CfdField::read_dir(flags.cfd_dir));
+  twin->cfd_air = field;
+}
+
+std::string air_identity(const AirFlags& flags) {
+  if (flags.air != "cfd") return flags.air;
+  std::vector<std::string> headers;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(flags.cfd_dir, ec)) {
+    if (e.path().extension() == ".json") headers.push_back(e.path().string());
+  }
+  std::sort(headers.begin(), headers.end());
+  std::string all;
+  for (const std::string& h : headers) {
+    std::ifstream in(h, std::ios::binary);
+    all += std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  return "cfd " + flags.cfd_dir + " " + content_hash(all);
 }
 
 }  // namespace airtwin::cli

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the subcommands: flag parsing at the edge (degrees, "X,Y" pairs), output files.
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Core>
 #include <initializer_list>
 #include <string>
@@ -62,6 +63,25 @@ inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
     {"collection.per_tilt", "--per-tilt"}, {"collection.wait_s", "--wait"},
     {"collection.lead_in_s", "--lead-in"}, {"collection.record_s", "--record"},
     {"collection.threads", "--threads"},   {"calibration.iterations", "--iterations"}};
+
+/// The twin's air: the jet's CFD or the controller's analytical field (the default until the
+/// controller's model is fitted to the CFD, docs/twin.md).
+struct AirFlags {
+  std::string air = "model";
+  std::string cfd_dir = AIRTWIN_CFD_DIR;  ///< the shipped cases (data/cfd/)
+};
+
+/// Adds --air cfd|model and --cfd DIR to `sub`.
+void add_air_flags(CLI::App* sub, AirFlags& flags);
+
+/// Sets twin->cfd_air: the CFD cases of --cfd's folder (read once per folder in a process) for
+/// --air cfd, none for --air model. UsageError naming --air or --cfd; InputError naming the file
+/// for unreadable CFD data.
+void apply_air_flags(const AirFlags& flags, TwinParameters* twin);
+
+/// What the air flags select, for records: "model", or "cfd" with the folder and a hash of its
+/// case headers.
+std::string air_identity(const AirFlags& flags);
 
 /// The effects of the repeatable --effect flag, parsed and applied to `twin` in order; the
 /// library's error becomes a UsageError naming --effect.

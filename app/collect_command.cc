@@ -25,12 +25,15 @@ struct CollectArgs {
   std::string out;
   bool quiet = false;
   std::vector<std::string> effects;
+  AirFlags air;
   CollectionOptions options;
 };
 
 void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
   o.tilts_rad = parse_degree_list(a.tilts, "--tilts");
+  if (!a.table.empty() && a.air.air != "model") throw UsageError("--table needs --air model");
+  apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
   const AirFieldModel field = a.table.empty()
@@ -48,9 +51,10 @@ void run_collect(CollectArgs a) {
   std::string effect_list;
   for (const Effect& e : effects)
     effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
-  std::printf("collected %d %s trajectories (%d per tilt, seed %llu%s%s) into %s\n", total,
+  std::printf("collected %d %s trajectories (%d per tilt, seed %llu, %s air%s%s) into %s\n", total,
               o.object.c_str(), o.per_tilt, static_cast<unsigned long long>(o.seed),
-              effects.empty() ? "" : ", effects ", effect_list.c_str(), a.out.c_str());
+              a.air.air.c_str(), effects.empty() ? "" : ", effects ", effect_list.c_str(),
+              a.out.c_str());
 }
 
 }  // namespace
@@ -82,8 +86,10 @@ void add_collect_command(CLI::App& app) {
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();
+  add_air_flags(sub, args->air);
   sub->add_option("--table", args->table,
-                  "Coefficient table CSV of the twin's air field; default: the built-in table");
+                  "With --air model: the coefficient table CSV of the twin's air field; default:\n"
+                  "the built-in table");
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "

@@ -65,6 +65,7 @@ struct RenderArgs {
   int calibration_views = 8;
   std::string out;
   bool quiet = false;
+  AirFlags air;
 };
 
 void make_dir(const std::string& dir) {
@@ -212,6 +213,7 @@ void run_render(const RenderArgs& a) {
   // The twin: the scenario's objects, the jet on and settled at the given orientation.
   const AirFieldModel field = AirFieldModel::with_default_table();
   TwinParameters params;
+  apply_air_flags(a.air, &params);
   const NozzleOrientation orientation{deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)};
   params.initial_orientation = orientation;
   params.jet_on_at_start = true;
@@ -288,7 +290,7 @@ void run_render(const RenderArgs& a) {
           data.current_references_W.push_back(r);
         }
       }
-      data.stagnation_W = twin.field().stagnation_point();
+      data.stagnation_W = twin.stagnation_point();
       data.nozzle_pan_rad = twin.actual_orientation().pan_rad;
       data.trails_W = trails.trails();
       data.time_s = t;
@@ -354,6 +356,7 @@ void add_render_command(CLI::App& app) {
   sub->add_option("scenario", args->scenario, "Scenario YAML file (docs/scenario_schema.md)")
       ->required();
   sub->add_option("--frames", args->frames, "Camera frames to render (>= 1)")->required();
+  add_air_flags(sub, args->air);
   sub->add_option("--seed", args->seed,
                   "Seed of the twin (headings, cotton shapes, turbulence), "
                   "the sensor noise and the calibration views")

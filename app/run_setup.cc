@@ -20,6 +20,7 @@ void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& cal
                   "dynamics the controller plans with instead of the paper's eq. (8)");
   sub->add_option("--effect", f.effects,
                   "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
+  add_air_flags(sub, f.air);
   sub->add_flag(
       "--vision", f.vision,
       "The controller sees through the detection pipeline on rendered frames (calibrated\n"
@@ -47,6 +48,9 @@ void check_run_setup_flags(const RunSetupFlags& f) {
   }
   TwinParameters scratch;
   apply_effect_flags(f.effects, &scratch);
+  if (f.air.air != "cfd" && f.air.air != "model") {
+    throw UsageError("--air: expected cfd or model, got '" + f.air.air + "'");
+  }
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) {
@@ -56,7 +60,8 @@ AirFieldModel field_model_of(const RunSetupFlags& f) {
 
 ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   ScenarioRunOptions options;
-  // The twin's physics with the effects switched on.
+  // The twin's physics: its air, with the effects switched on.
+  apply_air_flags(f.air, &options.twin);
   apply_effect_flags(f.effects, &options.twin);
   // The dynamics the controller plans with, per object type.
   for (const std::string& path : f.models) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_common.h"
 #include "models/air_field.h"
 #include "runs/scenario_run.h"
 #include "vision/calibrated_camera.h"
@@ -22,9 +23,11 @@ struct RunSetupFlags {
   std::string calib;
   double vision_rate_hz = 10.0;
   std::string noise = "none";
+  AirFlags air;
 };
 
-/// Adds --table, --model, --effect, --vision, --calib, --vision-rate and --noise to `sub`.
+/// Adds --table, --model, --effect, --air, --cfd, --vision, --calib, --vision-rate and --noise
+/// to `sub`.
 /// `calib_default` completes --calib's help: what happens without it.
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& flags, const std::string& calib_default);
 
@@ -35,7 +38,8 @@ void check_run_setup_flags(const RunSetupFlags& flags);
 /// The field model: --table's, or the built-in table. Throws InputError for a bad table file.
 AirFieldModel field_model_of(const RunSetupFlags& flags);
 
-/// The run options the flags set (the seed is left 0): effects in the twin, the dynamics of the
+/// The run options the flags set (the seed is left 0): the twin's air and effects, the dynamics of
+/// the
 /// --model files, the vision pipeline's rate, noise and blur (the camera is vision_camera_of's).
 /// Throws InputError for an unreadable model or one that names no object type.
 ScenarioRunOptions run_options_of(const RunSetupFlags& flags);

@@ -4,6 +4,9 @@
 // BM_FieldReferencePerPoint: the same numbers computed the straightforward way, for comparison in
 // the same run: Makima in tilt rebuilt for the two neighbouring alpha rows at every point.
 // BM_OrientedFieldBuild: cost of preparing one orientation (paid once per candidate in CEM).
+// BM_CfdLookup: the twin's air from the CFD (models/cfd_field.h), one point at a time as the twin
+// asks for it: mean velocity, k and epsilon at a point and height, at a tilt between two cases
+// (issue target: <= 50 ns a lookup); 1e6 random points over +-1.25 m and 4-25 mm.
 
 #include <benchmark/benchmark.h>
 
@@ -12,6 +15,7 @@
 
 #include "common/units.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "models/makima.h"
 
 namespace airtwin {
@@ -110,6 +114,29 @@ void BM_OrientedFieldBuild(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_OrientedFieldBuild)->Unit(benchmark::kMicrosecond);
+
+void BM_CfdLookup(benchmark::State& state) {
+  static const CfdField cfd = CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd");
+  const Eigen::Matrix2Xd p = random_points();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> height(0.004, 0.025);
+  Eigen::VectorXd z(kPoints);
+  for (int j = 0; j < kPoints; ++j) z[j] = height(rng);
+  const CfdOrientedField f = cfd.at({deg_to_rad(90), deg_to_rad(17)});
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (int j = 0; j < kPoints; ++j) {
+      const CfdSample a = f.at(p.col(j), z[j]);
+      sum += a.u_W.x() + a.k;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * kPoints);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kPoints * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CfdLookup)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace airtwin

@@ -18,6 +18,10 @@
 //   BM_TwinStep/tracers_25_1ms: the same at the former 1 ms step (the default is 2.5 ms).
 //   BM_TwinStep/tracer_1:    one tracer in the jet.
 //   BM_TwinStep/mixed_12:    6 cotton wads + 6 tracers, same nozzle program.
+//   BM_TwinStep/tracers_25_cfd: the 25 tracers in the CFD's air (data/cfd/) instead of the
+//                            analytical field's; its counter air_share is the share of a twin step
+//                            spent in the air callback (the same AirForces::apply on the twin's
+//                            state, timed alone; issue target <= 3 %).
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the issue's target is >= 0.8 with rtf >= 10 on the
 // 25-tracer scene), ratio_free (twin / free-running bare step rate).
@@ -26,10 +30,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/units.h"
+#include "models/cfd_field.h"
+#include "sim/air_forces.h"
 #include "sim/mujoco_runtime.h"
 #include "sim/twin.h"
 
@@ -88,11 +96,23 @@ NozzleOrientation program(double t_s) {
   return {-kPi / 2 + k * kPi / 2, deg_to_rad(20)};
 }
 
-Twin make_twin(const SceneSpec& spec, double timestep_s) {
+std::shared_ptr<const CfdField> shipped_cfd() {
+  static const auto cfd =
+      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
+  return cfd;
+}
+
+TwinParameters twin_parameters(double timestep_s, bool cfd) {
   TwinParameters p;
   p.scene.timestep_s = timestep_s;
+  if (cfd) p.cfd_air = shipped_cfd();
   p.jet_on_at_start = true;
   p.initial_orientation = program(0.0);
+  return p;
+}
+
+Twin make_twin(const SceneSpec& spec, double timestep_s, bool cfd = false) {
+  TwinParameters p = twin_parameters(timestep_s, cfd);
   Twin twin(spec, p, field_model(), 7);
   twin.settle_jet();
   return twin;
@@ -109,15 +129,20 @@ void copy_state(const mjModel* m, const mjData* from, mjData* to) {
 }
 
 void run(benchmark::State& state, const SceneSpec& spec,
-         double timestep_s = SceneParameters{}.timestep_s) {
+         double timestep_s = SceneParameters{}.timestep_s, bool cfd = false) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
   };
-  Twin twin = make_twin(spec, timestep_s);
+  Twin twin = make_twin(spec, timestep_s, cfd);
   const mjModel* m = twin.model();
   DataPtr bare = make_data(m);
-  double twin_s = 0.0, bare_s = 0.0, free_s = 0.0;
+  // The air callback alone, on the twin's state: a second AirForces of the same objects.
+  const TwinParameters params = twin_parameters(timestep_s, cfd);
+  std::vector<SceneObject> objects;
+  for (size_t i = 0; i < twin.object_count(); ++i) objects.push_back(twin.object(i));
+  AirForces air(params.air, params.scene, objects, 7, timestep_s);
+  double twin_s = 0.0, bare_s = 0.0, free_s = 0.0, air_s = 0.0;
   int64_t steps = 0;
   for (auto _ : state) {
     // Twin, step by step, each step mirrored by a bare step from the same state.
@@ -132,6 +157,18 @@ void run(benchmark::State& state, const SceneSpec& spec,
       const auto t2 = Clock::now();
       twin_s += seconds(t0, t1);
       bare_s += seconds(t1, t2);
+      // The air alone on the state mj_step left (positions and kinematics are current).
+      const NozzleOrientation e = twin.effective_orientation();
+      std::optional<CfdOrientedField> cfd_air;
+      if (cfd) {
+        cfd_air = params.cfd_air->at(e);
+        air.set_air(*cfd_air, twin.jet_level());
+      } else {
+        air.set_air(twin.field(), twin.jet_level());
+      }
+      const auto t4 = Clock::now();
+      air.apply(m, bare.get());
+      air_s += seconds(t4, Clock::now());
     }
     // Bare, free-running from the twin's state for a chunk (its objects slow down and stop).
     copy_state(m, twin.data(), bare.get());
@@ -154,12 +191,16 @@ void run(benchmark::State& state, const SceneSpec& spec,
   state.counters["rtf"] = n / twin_s * twin.timestep();
   state.counters["ratio"] = bare_s / twin_s;
   state.counters["ratio_free"] = free_s / twin_s;
+  state.counters["air_share"] = air_s / twin_s;
 }
 
 void BM_TwinStep_tracers_25(benchmark::State& state) { run(state, tracers_25()); }
 void BM_TwinStep_tracers_25_1ms(benchmark::State& state) { run(state, tracers_25(), 0.001); }
 void BM_TwinStep_tracer_1(benchmark::State& state) { run(state, tracer_1()); }
 void BM_TwinStep_mixed_12(benchmark::State& state) { run(state, mixed_12()); }
+void BM_TwinStep_tracers_25_cfd(benchmark::State& state) {
+  run(state, tracers_25(), SceneParameters{}.timestep_s, true);
+}
 
 BENCHMARK(BM_TwinStep_tracers_25)
     ->Name("BM_TwinStep/tracers_25")
@@ -173,6 +214,10 @@ BENCHMARK(BM_TwinStep_tracer_1)
     ->Name("BM_TwinStep/tracer_1")
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0);
+BENCHMARK(BM_TwinStep_tracers_25_cfd)
+    ->Name("BM_TwinStep/tracers_25_cfd")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_mixed_12)
     ->Name("BM_TwinStep/mixed_12")
     ->Unit(benchmark::kMillisecond)

@@ -102,12 +102,13 @@ CfdCase CfdCase::read(const std::string& header_path) {
   for (size_t i = 0; i < fields.size(); ++i) {
     if (fields[i].is_string()) index[fields[i].get<std::string>()] = static_cast<int>(i);
   }
-  for (const char* needed : {"ux", "uy", "k", "epsilon"}) {
+  for (const char* needed : {"ux", "uy", "uz", "k", "epsilon"}) {
     if (!index.count(needed)) {
       throw InputError(where + ": fields: no '" + std::string(needed) + "' among them");
     }
   }
   c.n_fields_ = static_cast<int>(fields.size());
+  const int uz = index["uz"];
   c.ux_ = index["ux"];
   c.uy_ = index["uy"];
   c.k_ = index["k"];
@@ -133,23 +134,45 @@ CfdCase CfdCase::read(const std::string& header_path) {
     throw InputError(data_path + ": expected " + std::to_string(n * sizeof(float)) +
                      " bytes (the header's grid), found " + (ec ? "none" : std::to_string(size)));
   }
-  c.data_.resize(n);
-  d.read(reinterpret_cast<char*>(c.data_.data()), static_cast<std::streamsize>(n * sizeof(float)));
+  std::vector<float> raw(n);
+  d.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(n * sizeof(float)));
   if (!d) throw InputError(data_path + ": cannot read");
-  for (size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(c.data_[i])) {
-      throw InputError(data_path + ": value " + std::to_string(i) + " is not finite");
+  // Repacked node by node, the four fields the air needs side by side: one lookup touches four
+  // 16-byte nodes per height instead of sixteen scattered floats.
+  const size_t nodes_per_height = static_cast<size_t>(c.ny_) * static_cast<size_t>(c.nx_);
+  const int wanted[4] = {c.ux_, c.uy_, c.k_, c.epsilon_};
+  const char* wanted_name[4] = {"ux", "uy", "k", "epsilon"};
+  c.nodes_.resize(c.heights_m_.size() * nodes_per_height);
+  c.uz_.resize(c.heights_m_.size() * nodes_per_height);
+  for (size_t h = 0; h < c.heights_m_.size(); ++h) {
+    const float* uz_plane =
+        raw.data() +
+        (h * static_cast<size_t>(c.n_fields_) + static_cast<size_t>(uz)) * nodes_per_height;
+    for (size_t i = 0; i < nodes_per_height; ++i) {
+      if (!std::isfinite(uz_plane[i])) {
+        throw InputError(data_path + ": uz at height " + std::to_string(c.heights_m_[h]) +
+                         " m, node (ix " + std::to_string(i % static_cast<size_t>(c.nx_)) +
+                         ", iy " + std::to_string(i / static_cast<size_t>(c.nx_)) +
+                         ") is not finite");
+      }
+      c.uz_[h * nodes_per_height + i] = uz_plane[i];
+    }
+    for (int f = 0; f < 4; ++f) {
+      const float* plane =
+          raw.data() + (h * static_cast<size_t>(c.n_fields_) + static_cast<size_t>(wanted[f])) *
+                           nodes_per_height;
+      for (size_t i = 0; i < nodes_per_height; ++i) {
+        if (!std::isfinite(plane[i])) {
+          throw InputError(data_path + ": " + wanted_name[f] + " at height " +
+                           std::to_string(c.heights_m_[h]) + " m, node (ix " +
+                           std::to_string(i % static_cast<size_t>(c.nx_)) + ", iy " +
+                           std::to_string(i / static_cast<size_t>(c.nx_)) + ") is not finite");
+        }
+        c.nodes_[h * nodes_per_height + i][f] = plane[i];
+      }
     }
   }
   return c;
-}
-
-float CfdCase::value(size_t height, int field, long iy, long ix) const {
-  return data_[((height * static_cast<size_t>(n_fields_) + static_cast<size_t>(field)) *
-                    static_cast<size_t>(ny_) +
-                static_cast<size_t>(iy)) *
-                   static_cast<size_t>(nx_) +
-               static_cast<size_t>(ix)];
 }
 
 CfdSample CfdCase::at_height(size_t height, double x_m, double y_abs_m) const {
@@ -164,27 +187,34 @@ CfdSample CfdCase::at_height(size_t height, double x_m, double y_abs_m) const {
   const long ix = std::min(static_cast<long>(fx), nx_ - 2);
   const long iy = std::min(static_cast<long>(fy), ny_ - 2);
   const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
-  auto bilinear = [&](int f) {
-    const double v00 = value(height, f, iy, ix), v10 = value(height, f, iy, ix + 1);
-    const double v01 = value(height, f, iy + 1, ix), v11 = value(height, f, iy + 1, ix + 1);
-    return (1.0 - ty) * ((1.0 - tx) * v00 + tx * v10) + ty * ((1.0 - tx) * v01 + tx * v11);
-  };
-  out.u_W = {bilinear(ux_), bilinear(uy_)};
-  out.k = bilinear(k_);
-  out.epsilon = bilinear(epsilon_);
+  const Node* row0 =
+      nodes_.data() +
+      (height * static_cast<size_t>(ny_) + static_cast<size_t>(iy)) * static_cast<size_t>(nx_) +
+      static_cast<size_t>(ix);
+  const Node* row1 = row0 + nx_;
+  const double w00 = (1.0 - ty) * (1.0 - tx), w10 = (1.0 - ty) * tx, w01 = ty * (1.0 - tx),
+               w11 = ty * tx;
+  double v[4];
+  for (int f = 0; f < 4; ++f) {
+    v[f] = w00 * row0[0][f] + w10 * row0[1][f] + w01 * row1[0][f] + w11 * row1[1][f];
+  }
+  out.u_W = {v[0], v[1]};
+  out.k = v[2];
+  out.epsilon = v[3];
   return out;
+}
+
+std::pair<size_t, double> CfdCase::height_bracket(double z_m) const {
+  if (z_m >= heights_m_.back()) return {heights_m_.size() - 1, 0.0};
+  if (!(z_m > heights_m_.front())) return {0, 0.0};
+  size_t lo = 0;
+  while (heights_m_[lo + 1] < z_m) ++lo;
+  return {lo, (z_m - heights_m_[lo]) / (heights_m_[lo + 1] - heights_m_[lo])};
 }
 
 CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
   const double y_abs = std::abs(y_m);
-  size_t lo = 0;
-  double t = 0.0;
-  if (z_m >= heights_m_.back()) {
-    lo = heights_m_.size() - 1;
-  } else if (z_m > heights_m_.front()) {
-    while (heights_m_[lo + 1] < z_m) ++lo;
-    t = (z_m - heights_m_[lo]) / (heights_m_[lo + 1] - heights_m_[lo]);
-  }
+  const auto [lo, t] = height_bracket(z_m);
   CfdSample out = at_height(lo, x_m, y_abs);
   if (t > 0.0) {
     const CfdSample up = at_height(lo + 1, x_m, y_abs);
@@ -194,6 +224,27 @@ CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
   }
   if (y_m < 0.0) out.u_W.y() = -out.u_W.y();  // the mirror image
   return out;
+}
+
+double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
+  const double fx = (x_m - x0_m_) / dx_m_, fy = (std::abs(y_m) - y0_m_) / dy_m_;
+  if (!(fx >= 0.0 && fy >= 0.0 && fx <= static_cast<double>(nx_ - 1) &&
+        fy <= static_cast<double>(ny_ - 1))) {
+    return 0.0;
+  }
+  const long ix = std::min(static_cast<long>(fx), nx_ - 2);
+  const long iy = std::min(static_cast<long>(fy), ny_ - 2);
+  const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
+  auto plane = [&](size_t h) {
+    const float* r0 =
+        uz_.data() +
+        (h * static_cast<size_t>(ny_) + static_cast<size_t>(iy)) * static_cast<size_t>(nx_) +
+        static_cast<size_t>(ix);
+    const float* r1 = r0 + nx_;
+    return (1.0 - ty) * ((1.0 - tx) * r0[0] + tx * r0[1]) + ty * ((1.0 - tx) * r1[0] + tx * r1[1]);
+  };
+  const auto [lo, t] = height_bracket(z_m);
+  return t > 0.0 ? (1.0 - t) * plane(lo) + t * plane(lo + 1) : plane(lo);
 }
 
 CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry)
@@ -257,28 +308,52 @@ CfdField::Bracket CfdField::bracket(double tilt_rad) const {
   return b;
 }
 
+CfdOrientedField CfdField::at(const NozzleOrientation& o) const {
+  const Bracket b = bracket(o.tilt_rad);
+  CfdOrientedField f;
+  f.field_ = this;
+  f.orientation_ = o;
+  f.lo_ = b.lo;
+  f.hi_ = b.hi;
+  f.w_ = b.hi != b.lo ? b.w : 0.0;
+  f.shift_lo_ = cases_[b.lo].stagnation_x_m() - b.s_x;
+  f.shift_hi_ = cases_[b.hi].stagnation_x_m() - b.s_x;
+  f.cos_pan_ = std::cos(o.pan_rad);
+  f.sin_pan_ = std::sin(o.pan_rad);
+  f.s_W_ = b.s_x * Eigen::Vector2d(f.cos_pan_, f.sin_pan_);
+  return f;
+}
+
 Eigen::Vector2d CfdField::stagnation_point(const NozzleOrientation& o) const {
-  const double s = bracket(o.tilt_rad).s_x;
-  return s * Eigen::Vector2d(std::cos(o.pan_rad), std::sin(o.pan_rad));
+  return at(o).stagnation_point();
 }
 
 CfdSample CfdField::at(const NozzleOrientation& o, const Eigen::Vector2d& p_W, double z_m) const {
-  const Bracket b = bracket(o.tilt_rad);
-  const double c = std::cos(o.pan_rad), s = std::sin(o.pan_rad);
-  // The point in the case frame (pan 0), relative to the interpolated s.
+  return at(o).at(p_W, z_m);
+}
+
+CfdSample CfdOrientedField::at(const Eigen::Vector2d& p_W, double z_m) const {
+  const double c = cos_pan_, s = sin_pan_;
+  // The point in the case frame (pan 0); each case shifted to put its s on the interpolated s.
   const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
-  const CfdCase& lo = cases_[b.lo];
-  CfdSample out = lo.at(x - b.s_x + lo.stagnation_x_m(), y, z_m);
-  if (b.hi != b.lo && b.w > 0.0) {
-    const CfdCase& hi = cases_[b.hi];
-    const CfdSample up = hi.at(x - b.s_x + hi.stagnation_x_m(), y, z_m);
-    out.u_W = (1.0 - b.w) * out.u_W + b.w * up.u_W;
-    out.k = (1.0 - b.w) * out.k + b.w * up.k;
-    out.epsilon = (1.0 - b.w) * out.epsilon + b.w * up.epsilon;
+  CfdSample out = field_->cases_[lo_].at(x + shift_lo_, y, z_m);
+  if (w_ > 0.0) {
+    const CfdSample up = field_->cases_[hi_].at(x + shift_hi_, y, z_m);
+    out.u_W = (1.0 - w_) * out.u_W + w_ * up.u_W;
+    out.k = (1.0 - w_) * out.k + w_ * up.k;
+    out.epsilon = (1.0 - w_) * out.epsilon + w_ * up.epsilon;
   }
   // Back to the world frame.
   out.u_W = Eigen::Vector2d(c * out.u_W.x() - s * out.u_W.y(), s * out.u_W.x() + c * out.u_W.y());
   return out;
+}
+
+double CfdOrientedField::vertical_at(const Eigen::Vector2d& p_W, double z_m) const {
+  const double x = cos_pan_ * p_W.x() + sin_pan_ * p_W.y();
+  const double y = -sin_pan_ * p_W.x() + cos_pan_ * p_W.y();
+  const double lo = field_->cases_[lo_].vertical_at(x + shift_lo_, y, z_m);
+  if (!(w_ > 0.0)) return lo;
+  return (1.0 - w_) * lo + w_ * field_->cases_[hi_].vertical_at(x + shift_hi_, y, z_m);
 }
 
 }  // namespace airtwin

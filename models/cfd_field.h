@@ -16,7 +16,9 @@
 // still (velocity 0) with the ambient turbulence of the case.
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "models/nozzle_geometry.h"
@@ -50,10 +52,14 @@ class CfdCase {
   /// The field at (x, y) of the case frame and height z: bilinear on the grid, linear between
   /// heights (clamped to the lowest and highest), mirrored for y < 0; still air outside the grid.
   CfdSample at(double x_m, double y_m, double z_m) const;
+  /// The vertical mean velocity there (m/s, up positive; the same interpolation; 0 outside the
+  /// grid). What an omnidirectional anemometer sees besides the horizontal air, large near s.
+  double vertical_at(double x_m, double y_m, double z_m) const;
 
  private:
-  float value(size_t height, int field, long iy, long ix) const;
   CfdSample at_height(size_t height, double x_m, double y_abs_m) const;
+  // The height bracket of z: lower index and weight of the upper one (0 at or past the ends).
+  std::pair<size_t, double> height_bracket(double z_m) const;
 
   std::string name_;
   double tilt_rad_ = 0.0;
@@ -67,7 +73,34 @@ class CfdCase {
   int ux_ = 0, uy_ = 0, k_ = 0, epsilon_ = 0;  // indices of the fields in the data
   std::vector<double> heights_m_;
   double k_ambient_ = 0.0, epsilon_ambient_ = 0.0;
-  std::vector<float> data_;  // [height][field][iy][ix]
+  using Node = std::array<float, 4>;  // ux, uy, k, epsilon
+  std::vector<Node> nodes_;           // [height][iy][ix]
+  std::vector<float> uz_;             // [height][iy][ix]
+};
+
+class CfdField;
+
+/// The CFD air of one nozzle orientation: the tilt bracket and the pan rotation resolved once, as
+/// OrientedField is for the model. Cheap to build and copy; the CfdField must outlive it.
+class CfdOrientedField {
+ public:
+  const NozzleOrientation& orientation() const { return orientation_; }
+  /// The stagnation point s (m, world frame).
+  const Eigen::Vector2d& stagnation_point() const { return s_W_; }
+  /// The air at floor point p_W (m) and height z_m (see the top of this file).
+  CfdSample at(const Eigen::Vector2d& p_W, double z_m) const;
+  /// The vertical mean velocity at p_W and z_m (m/s, up positive; CfdCase::vertical_at).
+  double vertical_at(const Eigen::Vector2d& p_W, double z_m) const;
+
+ private:
+  friend class CfdField;
+  const CfdField* field_ = nullptr;
+  NozzleOrientation orientation_{0.0, 0.0};
+  size_t lo_ = 0, hi_ = 0;
+  double w_ = 0.0;                          // weight of case hi_, linear in tilt
+  double shift_lo_ = 0.0, shift_hi_ = 0.0;  // case x = frame x + shift (puts each case's s at s)
+  double cos_pan_ = 1.0, sin_pan_ = 0.0;
+  Eigen::Vector2d s_W_ = Eigen::Vector2d::Zero();
 };
 
 /// The CFD air for any nozzle orientation within the cases' tilt range. Immutable; any number of
@@ -86,14 +119,17 @@ class CfdField {
   double max_tilt_rad() const { return cases_.back().tilt_rad(); }
   const std::vector<CfdCase>& cases() const { return cases_; }
 
-  /// The stagnation point of orientation `o` (m, world frame). InputError when the tilt is outside
-  /// [min_tilt_rad, max_tilt_rad].
+  /// The field of orientation `o`. InputError when the tilt is outside [min_tilt_rad,
+  /// max_tilt_rad].
+  CfdOrientedField at(const NozzleOrientation& o) const;
+  /// The stagnation point of orientation `o` (m, world frame); the same errors.
   Eigen::Vector2d stagnation_point(const NozzleOrientation& o) const;
-  /// The air at floor point p_W (m) and height z_m under orientation `o` (see the top of this
-  /// file). InputError when the tilt is outside the cases' range.
+  /// The air at floor point p_W (m) and height z_m under orientation `o`; the same errors. Prefer
+  /// at(o) for many points.
   CfdSample at(const NozzleOrientation& o, const Eigen::Vector2d& p_W, double z_m) const;
 
  private:
+  friend class CfdOrientedField;
   struct Bracket {
     size_t lo = 0, hi = 0;
     double w = 0.0;    // weight of `hi`, linear in tilt

@@ -72,7 +72,7 @@ void RunVideo::on_frame(const Twin& twin, int64_t frame_index,
   }
   if (!decisions.empty()) {
     o.current_references_W.push_back(decisions.back().reference_W);
-    o.stagnation_W = twin.field().stagnation_point();
+    o.stagnation_W = twin.stagnation_point();
   }
   o.nozzle_pan_rad = twin.actual_orientation().pan_rad;
   o.trails_W = m.trails.trails();

@@ -57,6 +57,8 @@ void AirForceParameters::validate() const {
         "stagnation_pressure_pa (expected >= 0)", stagnation_pressure_pa);
   check(std::isfinite(pressure_radius_m) && pressure_radius_m > 0,
         "pressure_radius_m (expected > 0)", pressure_radius_m);
+  check(std::isfinite(lagrangian_time_factor) && lagrangian_time_factor > 0,
+        "lagrangian_time_factor (expected > 0)", lagrangian_time_factor);
   check(std::isfinite(field_scale) && field_scale > 0, "field_scale (expected > 0)", field_scale);
   check(std::isfinite(flow_deflection_rad) && std::abs(flow_deflection_rad) <= kPi / 2,
         "flow_deflection_rad (expected [-pi/2, pi/2])", flow_deflection_rad);
@@ -74,8 +76,8 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   params_.validate();
   AIRTWIN_DEMAND(std::isfinite(timestep_s) && timestep_s > 0);
   // Exact discretisation of the unit-variance OU process over one step.
+  timestep_s_ = timestep_s;
   ou_decay_ = std::exp(-timestep_s / params_.turbulence_time_s);
-  ou_kick_ = std::sqrt(std::max(0.0, 1.0 - ou_decay_ * ou_decay_));
   // Per-object coefficients and turbulence streams, the OU state drawn from its stationary law.
   for (size_t o = 0; o < objects_.size(); ++o) {
     const SceneObject& obj = objects_[o];
@@ -92,6 +94,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     const double ex = streams_.back().normal();
     const double ey = streams_.back().normal();
     p.eta = Eigen::Vector2d(ex, ey);
+    p.decay = ou_decay_;
     per_object_.push_back(p);
   }
   // The flattened body layout and the scratch columns, sized once.
@@ -106,20 +109,33 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   v_body_W_.setZero(2, n);
   u_body_W_.setZero(2, n);
   f_body_W_.setZero(2, n);
+  z_body_.setZero(n);
+  k_body_.setZero(n);
+  epsilon_body_.setZero(n);
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
 }
 
 void AirForces::set_air(const OrientedField& field, double jet_level) {
   field_ = &field;
+  cfd_ = nullptr;
+  jet_level_ = jet_level;
+}
+
+void AirForces::set_air(const CfdOrientedField& field, double jet_level) {
+  cfd_ = &field;
+  field_ = nullptr;
   jet_level_ = jet_level;
 }
 
 void AirForces::advance_turbulence() {
   for (size_t o = 0; o < per_object_.size(); ++o) {
+    PerObject& po = per_object_[o];
+    const double decay = cfd_ != nullptr ? po.decay : ou_decay_;
+    const double kick = std::sqrt(std::max(0.0, 1.0 - decay * decay));
     const double ex = streams_[o].normal();
     const double ey = streams_[o].normal();
-    per_object_[o].eta = ou_decay_ * per_object_[o].eta + ou_kick_ * Eigen::Vector2d(ex, ey);
+    po.eta = decay * po.eta + kick * Eigen::Vector2d(ex, ey);
   }
 }
 
@@ -135,7 +151,7 @@ void AirForces::apply_reference(const mjModel* m, mjData* d) noexcept { run(m, d
 void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
   if (!fault_.empty()) return;
   // No air and a level floor: nothing to do (the holding force opposes air and slope only).
-  const bool air = field_ != nullptr && jet_level_ > 0.0;
+  const bool air = (field_ != nullptr || cfd_ != nullptr) && jet_level_ > 0.0;
   if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0) return;
   try {
     if (m != bound_model_) bind(m);
@@ -207,7 +223,9 @@ void AirForces::bind(const mjModel* m) {
 // The horizontal force on every body (f_body_W_) from the state in d; without `air`, only the
 // holding force against the floor's slope.
 void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
-  const Eigen::Vector2d s_W = air ? field_->stagnation_point() : Eigen::Vector2d::Zero();
+  const Eigen::Vector2d s_W = !air              ? Eigen::Vector2d::Zero()
+                              : cfd_ != nullptr ? cfd_->stagnation_point()
+                                                : field_->stagnation_point();
   const double scale = air ? jet_level_ * params_.field_scale : 0.0;  // J f: air-speed factor
   const double g_normal = std::abs(m->opt.gravity[2]);
   const Eigen::Vector2d g_floor_W(m->opt.gravity[0], m->opt.gravity[1]);
@@ -229,17 +247,27 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       const Eigen::Index col = static_cast<Eigen::Index>(first_body_[o] + k);
       p_body_W_(0, col) = d->xipos[3 * b];
       p_body_W_(1, col) = d->xipos[3 * b + 1];
+      z_body_[col] = d->xipos[3 * b + 2];
       // The drag's velocity is that of the point it acts on (the body origin): then the drag
       // only ever takes energy out. Taken at the centre of mass while acting at the face, it
       // pumped energy into a tumbling tracer's spin until it flew off the floor.
       v_body_W_.col(col) = body_origin_velocity(m, d, b).head<2>();
     }
   }
-  if (air) field_->velocities(p_body_W_, u_body_W_);
+  if (air && cfd_ != nullptr) {
+    for (Eigen::Index col = 0; col < p_body_W_.cols(); ++col) {
+      const CfdSample a = cfd_->at(p_body_W_.col(col), z_body_[col]);
+      u_body_W_.col(col) = a.u_W;
+      k_body_[col] = a.k;
+      epsilon_body_[col] = a.epsilon;
+    }
+  } else if (air) {
+    field_->velocities(p_body_W_, u_body_W_);
+  }
 
   for (size_t o = 0; o < objects_.size(); ++o) {
     const SceneObject& obj = objects_[o];
-    const PerObject& po = per_object_[o];
+    PerObject& po = per_object_[o];
     const Eigen::Index first = static_cast<Eigen::Index>(first_body_[o]);
     const Eigen::Index n = static_cast<Eigen::Index>(obj.bodies.size());
 
@@ -249,9 +277,23 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       centre += obj.area_share[k] * p_body_W_.col(first + k);
       v_obj += obj.area_share[k] * v_body_W_.col(first + k);
     }
-    const double r_obj2 = (centre - s_W).squaredNorm();
-    const double sigma = params_.turbulence_reference_speed_mps *
-                         (i_far + (i_near - i_far) * std::exp(-r_obj2 / lt2));
+    double sigma = 0.0;
+    if (air && cfd_ != nullptr) {
+      // The CFD's turbulence at the object: sigma = sqrt(2k/3), T_L = C_L k / epsilon.
+      double k = 0.0, epsilon = 0.0;
+      for (Eigen::Index j = 0; j < n; ++j) {
+        k += obj.area_share[j] * k_body_[first + j];
+        epsilon += obj.area_share[j] * epsilon_body_[first + j];
+      }
+      sigma = std::sqrt(2.0 * std::max(k, 0.0) / 3.0);
+      if (k > 0.0 && epsilon > 0.0) {
+        po.decay = std::exp(-timestep_s_ * epsilon / (params_.lagrangian_time_factor * k));
+      }
+    } else {
+      const double r_obj2 = (centre - s_W).squaredNorm();
+      sigma = params_.turbulence_reference_speed_mps *
+              (i_far + (i_near - i_far) * std::exp(-r_obj2 / lt2));
+    }
     const Eigen::Vector2d u_turbulent = sigma * po.eta;
 
     // Drag and pressure pushes on each body, by its area share.

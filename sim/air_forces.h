@@ -29,6 +29,15 @@
 // The drag's v is that point's velocity too, so the drag never does work on a body's spin (with
 // the centre's velocity instead, a tumbling tracer gained energy until it flew off the floor).
 //
+// The CFD's air (set_air with a CfdOrientedField, models/cfd_field.h) replaces the analytical
+// field and the hand-set turbulence above: v_air(p) is the CFD's mean velocity at the body's
+// centre of mass (its height included), and the turbulence comes from the CFD's k and epsilon at
+// the object (area-weighted over its bodies): sigma = sqrt(2 k / 3) per horizontal component
+// (isotropic), correlation time T_L = C_L k / epsilon with C_L = 0.15, the Lagrangian time scale
+// of random-walk particle dispersion in k-epsilon flows (ANSYS Fluent Theory Guide, "Stochastic
+// Tracking"). Each object's OU process then decays with its own T_L, taken where it last was.
+// k and epsilon are those of the full jet; sigma is scaled by J f like the mean air.
+//
 // Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
 // air velocity by a fixed angle (counter-clockwise positive) at the same speed; quadratic_drag
@@ -60,6 +69,7 @@
 
 #include "common/random_stream.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "sim/scene_builder.h"
 #include "sim/scene_spec.h"
 
@@ -77,6 +87,8 @@ struct AirForceParameters {
   double turbulence_time_s = 0.05;              ///< correlation time (s) of eta
   double stagnation_pressure_pa = 11.0;         ///< p_s (Pa); 0 switches the push off
   double pressure_radius_m = 0.06;              ///< b (m)
+  /// C_L: the turbulence's correlation time under the CFD's air is C_L k / epsilon.
+  double lagrangian_time_factor = 0.15;
 
   // Effects (sim/effects.h), neutral by default.
   double field_scale = 1.0;           ///< factor f on the air speed (> 0)
@@ -98,8 +110,10 @@ class AirForces {
   AirForces(const AirForceParameters& params, const SceneParameters& scene,
             std::vector<SceneObject> objects, uint64_t seed, double timestep_s);
 
-  /// The field (at the effective orientation) and jet level (0..1) for the coming step.
+  /// The analytical field (at the effective orientation) and jet level (0..1) for the coming step.
   void set_air(const OrientedField& field, double jet_level);
+  /// The same with the CFD's air (its mean velocity and turbulence, see the top of this file).
+  void set_air(const CfdOrientedField& field, double jet_level);
   /// Advances each object's turbulence by one timestep (call once per physics step).
   void advance_turbulence();
   /// Adds the air forces of the current state to d->qfrc_passive. Called by the dispatcher from
@@ -126,6 +140,7 @@ class AirForces {
     double extra_static;      // (mu_s - mu_k) m_o (kg), times g gives the holding force
     double stiction_speed;    // v_stick (m/s)
     Eigen::Vector2d eta;      // OU state, unit variance per component
+    double decay;             // eta's decay over one step (exp(-dt / T_L) under the CFD's air)
   };
   // How one body's force reaches qfrc_passive (bound to a model on the first apply()).
   struct BodyDofs {
@@ -139,16 +154,19 @@ class AirForces {
   AirForceParameters params_;
   std::vector<SceneObject> objects_;
   std::vector<PerObject> per_object_;
-  std::vector<RandomStream> streams_;  // turbulence, one per object
-  const OrientedField* field_ = nullptr;
+  std::vector<RandomStream> streams_;      // turbulence, one per object
+  const OrientedField* field_ = nullptr;   // the analytical air, or
+  const CfdOrientedField* cfd_ = nullptr;  // the CFD's
   double jet_level_ = 0.0;
-  double ou_decay_ = 0.0, ou_kick_ = 0.0;  // eta <- decay eta + kick N(0, 1)
+  double timestep_s_ = 0.0;
+  double ou_decay_ = 0.0;  // eta <- decay eta + sqrt(1 - decay^2) N(0, 1), the analytical air's
   double cos_deflection_ = 1.0, sin_deflection_ = 0.0;
   // Per body, flattened over the objects (object o's bodies start at first_body_[o]).
   std::vector<size_t> first_body_;
   const mjModel* bound_model_ = nullptr;
   std::vector<BodyDofs> dofs_;
   Eigen::Matrix2Xd p_body_W_, v_body_W_, u_body_W_, f_body_W_;  // scratch, sized once
+  Eigen::VectorXd z_body_, k_body_, epsilon_body_;
   std::string fault_;
 };
 

@@ -16,7 +16,9 @@ struct Twin::Impl {
         data(make_data(scene.model.get())),
         actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
         field(field_model.at(actuator.effective())),
-        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s) {}
+        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s) {
+    if (p.cfd_air) cfd_field = p.cfd_air->at(actuator.effective());
+  }
 
   void set_rig_joints();
   void refresh_field();
@@ -29,6 +31,7 @@ struct Twin::Impl {
   DataPtr data;
   NozzleActuator actuator;
   OrientedField field;
+  std::optional<CfdOrientedField> cfd_field;  // the air when params.cfd_air is set
   AirForces air;
   int64_t steps = 0;
   std::string last_warning;
@@ -44,11 +47,12 @@ void Twin::Impl::set_rig_joints() {
   d->qvel[m->jnt_dofadr[scene.tilt_joint]] = actuator.tilt_rate_radps();
 }
 
-// Rebuilds the oriented field only when the effective orientation changed (~1 us when it does).
+// Rebuilds the oriented fields only when the effective orientation changed (~1 us when it does).
 void Twin::Impl::refresh_field() {
   const NozzleOrientation& e = actuator.effective();
   if (e.pan_rad != field.orientation().pan_rad || e.tilt_rad != field.orientation().tilt_rad) {
     field = field_model.at(e);
+    if (cfd_field) cfd_field = params.cfd_air->at(e);
   }
 }
 
@@ -112,6 +116,18 @@ Twin::Twin(const SceneSpec& spec, const TwinParameters& params, const AirFieldMo
                      " deg reaches the field model's fold at " +
                      std::to_string(rad_to_deg(fold_tilt_rad(field_model.geometry()))) + " deg");
   }
+  if (params.cfd_air) {
+    const CfdField& cfd = *params.cfd_air;
+    if (params.nozzle.tilt_min_rad < cfd.min_tilt_rad() - 1e-9 ||
+        params.nozzle.tilt_max_rad > cfd.max_tilt_rad() + 1e-9) {
+      throw InputError("nozzle parameters: tilt range [" +
+                       std::to_string(rad_to_deg(params.nozzle.tilt_min_rad)) + ", " +
+                       std::to_string(rad_to_deg(params.nozzle.tilt_max_rad)) +
+                       "] deg is not covered by the CFD cases' [" +
+                       std::to_string(rad_to_deg(cfd.min_tilt_rad())) + ", " +
+                       std::to_string(rad_to_deg(cfd.max_tilt_rad())) + "] deg");
+    }
+  }
   impl_ = std::make_unique<Impl>(spec, params, field_model, seed);
   impl_->actuator.set_jet(params.jet_on_at_start);
   // The initial configuration, with the rig in place and kinematics computed.
@@ -140,7 +156,11 @@ void Twin::step() {
   s.actuator.step();
   s.set_rig_joints();
   s.refresh_field();
-  s.air.set_air(s.field, s.actuator.jet_level());
+  if (s.cfd_field) {
+    s.air.set_air(*s.cfd_field, s.actuator.jet_level());
+  } else {
+    s.air.set_air(s.field, s.actuator.jet_level());
+  }
   s.air.advance_turbulence();
   {
     AirForcesScope scope(s.scene.model.get(), &s.air);
@@ -174,6 +194,9 @@ NozzleOrientation Twin::actual_orientation() const { return impl_->actuator.actu
 NozzleOrientation Twin::effective_orientation() const { return impl_->actuator.effective(); }
 double Twin::jet_level() const { return impl_->actuator.jet_level(); }
 const OrientedField& Twin::field() const { return impl_->field; }
+Eigen::Vector2d Twin::stagnation_point() const {
+  return impl_->cfd_field ? impl_->cfd_field->stagnation_point() : impl_->field.stagnation_point();
+}
 
 size_t Twin::object_count() const { return impl_->scene.objects.size(); }
 const SceneObject& Twin::object(size_t i) const {

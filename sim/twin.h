@@ -1,6 +1,7 @@
 #pragma once
 // The MuJoCo twin of the rig: a scene of tracers and cotton wads on the floor, the nozzle's servos
-// and jet (sim/nozzle_actuator.h), and the air forces of the analytical field (sim/air_forces.h),
+// and jet (sim/nozzle_actuator.h), and the air forces (sim/air_forces.h) of the jet's CFD
+// (models/cfd_field.h) or, for comparison, of the controller's analytical field (eqs. 1-3),
 // stepped at a fixed physics timestep.
 //
 // One Twin owns its mjModel and mjData; nothing mutable is shared between twins, so independent
@@ -21,6 +22,7 @@
 #include <mujoco/mujoco.h>
 
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "sim/air_forces.h"
 #include "sim/mujoco_runtime.h"
 #include "sim/nozzle_actuator.h"
@@ -34,6 +36,9 @@ struct TwinParameters {
   SceneParameters scene;
   NozzleActuatorParameters nozzle;
   AirForceParameters air;
+  /// The air: the jet's CFD (shared, immutable; its tilt range must cover the nozzle's), or null
+  /// for the analytical field of the field model the twin is built with.
+  std::shared_ptr<const CfdField> cfd_air;
   NozzleOrientation initial_orientation{0.0, 0.0};  ///< servos at rest here at t = 0 (rad)
   bool jet_on_at_start = false;                     ///< jet level 0 at t = 0 either way
   /// Before t = 0 the objects settle this long without air (s): they are dropped 0.2 mm above
@@ -83,7 +88,10 @@ class Twin {
   NozzleOrientation actual_orientation() const;
   NozzleOrientation effective_orientation() const;
   double jet_level() const;  ///< air-speed scale in [0, 1]
-  /// The field the air forces use now (effective orientation, not scaled by the jet level).
+  /// The stagnation point of the air the objects are in now (m, world frame).
+  Eigen::Vector2d stagnation_point() const;
+  /// The analytical field at the effective orientation, not scaled by the jet level: the air the
+  /// objects are in unless cfd_air is set.
   const OrientedField& field() const;
 
   size_t object_count() const;

@@ -43,6 +43,13 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.out.find("field_scale:factor=1.5"), std::string::npos) << e.out;
   EXPECT_NE(read_text_file(d + "/a/data.csv"), read_text_file(d + "/c.csv"));
+  // The CFD's air: other trajectories than the model's, the same for the same seed, and said.
+  const auto cfd = run_airtwin(quick + "--air cfd --out " + d + "/cfd.csv");
+  ASSERT_EQ(cfd.exit_code, 0) << cfd.err;
+  EXPECT_NE(cfd.out.find("cfd air"), std::string::npos) << cfd.out;
+  ASSERT_EQ(run_airtwin(quick + "--air cfd --out " + d + "/cfd2.csv").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/cfd.csv"), read_text_file(d + "/cfd2.csv"));
+  EXPECT_NE(read_text_file(d + "/a/data.csv"), read_text_file(d + "/cfd.csv"));
 }
 
 TEST(CollectCli, BadFlagsAreOneClearLine) {
@@ -55,6 +62,14 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
                      "--effect: effect 'warp': unknown effect 'warp'");
   expect_usage_error("collect --effect stiction:ratio=0.5 --out x.csv", "stiction.ratio");
   expect_usage_error("collect", "--out");
+  expect_usage_error("collect --air wind --out x.csv", "--air: expected cfd or model, got 'wind'");
+  expect_usage_error("collect --cfd data --out x.csv", "--cfd needs --air cfd");
+  expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
+  // A folder without CFD cases: an input error naming it.
+  const auto r = run_airtwin("collect --air cfd --cfd " + scratch_dir("no_cfd") + " --out x.csv");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("no CFD case"), std::string::npos) << r.err;
   expect_usage_error("calibrate-dynamics --iterations 0 --out x.json", "--iterations");
   expect_usage_error("calibrate-dynamics --target 1,2 --out x.json", "--target");
 }

@@ -16,6 +16,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "tests/support/cfd_cases.h"
 
 namespace airtwin {
 namespace {
@@ -29,57 +30,20 @@ std::string temp_dir(const std::string& name) {
   return d.string();
 }
 
-// The fields of a synthetic case at (x, y >= 0, z): ux, uy, uz, k, epsilon, p.
-using Synthetic = std::function<std::array<double, 6>(double, double, double)>;
-
-const std::vector<double> kHeights = {0.005, 0.015, 0.025};
-
-// Writes case `name` (header and data) into `dir`: x in [-1, 1], y in [0, 1], 0.1 m pitch.
-std::string write_case(const std::string& dir, const std::string& name, double tilt_deg, double s_x,
-                       const Synthetic& fn, bool held_out = false) {
-  const int nx = 21, ny = 11;
-  nlohmann::json h;
-  h["format"] = "airtwin-cfd-floor 1";
-  h["case"] = name;
-  h["tilt_deg"] = tilt_deg;
-  h["held_out"] = held_out;
-  h["mesh_level"] = 1;
-  h["inlet"] = {{"diameter_m", 0.02}};
-  h["stagnation_point_s_m"] = {s_x, 0.0};
-  h["ambient"] = {{"k_m2_s2", 1e-3}, {"epsilon_m2_s3", 2e-3}};
-  h["grid"] = {{"x0_m", -1.0}, {"dx_m", 0.1},          {"nx", nx}, {"y0_m", 0.0}, {"dy_m", 0.1},
-               {"ny", ny},     {"heights_m", kHeights}};
-  h["fields"] = {"ux", "uy", "uz", "k", "epsilon", "p"};
-  h["dtype"] = "float32";
-  h["byte_order"] = "little";
-  h["data_file"] = name + ".f32";
-  std::vector<float> data;
-  for (double z : kHeights) {
-    for (int f = 0; f < 6; ++f) {
-      for (int iy = 0; iy < ny; ++iy) {
-        for (int ix = 0; ix < nx; ++ix) {
-          data.push_back(static_cast<float>(fn(-1.0 + 0.1 * ix, 0.1 * iy, z)[f]));
-        }
-      }
-    }
-  }
-  std::ofstream(dir + "/" + name + ".json") << h.dump(1);
-  std::ofstream(dir + "/" + name + ".f32", std::ios::binary)
-      .write(reinterpret_cast<const char*>(data.data()),
-             static_cast<std::streamsize>(data.size() * sizeof(float)));
-  return dir + "/" + name + ".json";
-}
+using testing::CfdSynthetic;
+using testing::write_cfd_case;
+using Synthetic = CfdSynthetic;
 
 // A field linear in x, y and z (bilinear interpolation and the linear blend in height reproduce
 // it exactly, up to float32 rounding).
 std::array<double, 6> linear(double x, double y, double z) {
-  return {0.5 + 2.0 * x - y + 40.0 * z, 1.0 + x + 3.0 * y, 0.0,
+  return {0.5 + 2.0 * x - y + 40.0 * z, 1.0 + x + 3.0 * y, -0.3 + 0.2 * x + 0.5 * y + 10.0 * z,
           0.1 + 0.05 * x + 2.0 * z,     5.0 + y,           0.0};
 }
 
 TEST(CfdCase, ReproducesALinearFieldAndItsMirror) {
   const std::string dir = temp_dir("linear");
-  const CfdCase c = CfdCase::read(write_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.2, linear));
+  const CfdCase c = CfdCase::read(write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.2, linear));
   EXPECT_DOUBLE_EQ(c.tilt_rad(), deg_to_rad(10.0));
   EXPECT_EQ(c.stagnation_x_m(), 0.2);
   for (const auto& [x, y, z] : std::vector<std::array<double, 3>>{
@@ -90,6 +54,8 @@ TEST(CfdCase, ReproducesALinearFieldAndItsMirror) {
     EXPECT_NEAR(s.u_W.y(), truth[1], 1e-5);
     EXPECT_NEAR(s.k, truth[3], 1e-6);
     EXPECT_NEAR(s.epsilon, truth[4], 1e-5);
+    EXPECT_NEAR(c.vertical_at(x, y, z), truth[2], 1e-6);
+    EXPECT_NEAR(c.vertical_at(x, -y, z), truth[2], 1e-6);
     // The mirror image at -y: ux, k, epsilon the same, uy reversed (on y = 0 a real case has
     // uy = 0; this synthetic one does not).
     if (y == 0.0) continue;
@@ -105,6 +71,7 @@ TEST(CfdCase, ReproducesALinearFieldAndItsMirror) {
   EXPECT_EQ(out.u_W, Eigen::Vector2d::Zero());
   EXPECT_EQ(out.k, 1e-3);
   EXPECT_EQ(out.epsilon, 2e-3);
+  EXPECT_EQ(c.vertical_at(1.2, 0.1, 0.015), 0.0);
 }
 
 // Air radial from the case's s at (s_x, 0), speed growing with the distance: a stagnation point
@@ -117,7 +84,7 @@ Synthetic radial(double s_x) {
 
 TEST(CfdField, PanRotatesTheCaseAboutTheVertical) {
   const std::string dir = temp_dir("pan");
-  write_case(dir, "tilt20.0_mesh1_d20", 20.0, 0.3, radial(0.3));
+  write_cfd_case(dir, "tilt20.0_mesh1_d20", 20.0, 0.3, radial(0.3));
   const CfdField field = CfdField::read_dir(dir);
   for (double pan_deg : {0.0, 37.0, 90.0, -140.0, 180.0}) {
     const NozzleOrientation o{deg_to_rad(pan_deg), deg_to_rad(20.0)};
@@ -134,9 +101,9 @@ TEST(CfdField, PanRotatesTheCaseAboutTheVertical) {
 
 TEST(CfdField, BetweenTiltsSMovesLinearlyInTanAndTheFieldsFollowIt) {
   const std::string dir = temp_dir("tilts");
-  write_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.1, radial(0.1));
-  write_case(dir, "tilt30.0_mesh1_d20", 30.0, 0.5, radial(0.5));
-  write_case(dir, "tilt20.0_mesh1_d20", 20.0, 0.0, linear, /*held_out=*/true);  // left out
+  write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.1, radial(0.1));
+  write_cfd_case(dir, "tilt30.0_mesh1_d20", 30.0, 0.5, radial(0.5));
+  write_cfd_case(dir, "tilt20.0_mesh1_d20", 20.0, 0.0, linear, /*held_out=*/true);  // left out
   const CfdField field = CfdField::read_dir(dir);
   ASSERT_EQ(field.cases().size(), 2u);
   EXPECT_DOUBLE_EQ(field.min_tilt_rad(), deg_to_rad(10.0));
@@ -167,7 +134,7 @@ std::string error_of(const std::function<void()>& f) {
 
 TEST(CfdCase, BadFilesAreOneClearError) {
   const std::string dir = temp_dir("bad");
-  const std::string header = write_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.1, linear);
+  const std::string header = write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.1, linear);
   const std::string good = [&] {
     std::ifstream in(header);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -191,7 +158,9 @@ TEST(CfdCase, BadFilesAreOneClearError) {
     d.seekp(40);
     d.write(reinterpret_cast<const char*>(&nan), sizeof nan);
   }
-  EXPECT_NE(error_of([&] { CfdCase::read(header); }).find("value 10 is not finite"),
+  EXPECT_NE(error_of([&] {
+              CfdCase::read(header);
+            }).find("ux at height 0.005000 m, node (ix 10, iy 0) is not finite"),
             std::string::npos);
   EXPECT_NE(error_of([&] { CfdCase::read(dir + "/none.json"); }).find("none.json: cannot open"),
             std::string::npos);

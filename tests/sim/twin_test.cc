@@ -8,12 +8,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <thread>
 #include <vector>
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "tests/support/cfd_cases.h"
 #include "tests/support/eq8_reference.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -28,6 +31,13 @@ std::string numbered(const char* prefix, int i) {
 const AirFieldModel& field_model() {
   static const AirFieldModel model = AirFieldModel::with_default_table();
   return model;
+}
+
+// The shipped CFD of the jet (data/cfd/), read once.
+std::shared_ptr<const CfdField> shipped_cfd() {
+  static const auto cfd =
+      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
+  return cfd;
 }
 
 // The fixture turns MuJoCo warnings into failures (STYLE.md).
@@ -165,10 +175,12 @@ SceneSpec busy_scene() {
   return spec;
 }
 
-// Jet on, a nozzle move during the run, default truths (turbulence, push, stiction) on.
-std::vector<double> run_busy(uint64_t seed, double duration = 0.6) {
+// Jet on, a nozzle move during the run, default truths (turbulence, push, stiction) on; the
+// analytical field's air or the CFD's.
+std::vector<double> run_busy(uint64_t seed, double duration = 0.6, bool cfd = false) {
   TwinParameters p;
   p.jet_on_at_start = true;
+  if (cfd) p.cfd_air = shipped_cfd();
   Twin twin(busy_scene(), p, field_model(), seed);
   twin.settle_jet();
   twin.advance(0.2);
@@ -187,6 +199,13 @@ TEST_F(TwinTest, SameSeedSameStatesOtherSeedOtherTurbulence) {
   EXPECT_FALSE(bit_identical(a, c));
   // The tracers are where the seeds differ most visibly: other turbulence, other paths.
   EXPECT_GT(std::abs(a[0] - c[0]) + std::abs(a[1] - c[1]), 1e-5);
+}
+
+TEST_F(TwinTest, InCfdAirSameSeedSameStatesAndTheAirIsNotTheModels) {
+  const std::vector<double> a = run_busy(21, 0.6, true), b = run_busy(21, 0.6, true);
+  EXPECT_TRUE(bit_identical(a, b));
+  const std::vector<double> model = run_busy(21, 0.6, false);
+  EXPECT_GT(std::abs(a[0] - model[0]) + std::abs(a[1] - model[1]), 1e-4);
 }
 
 TEST_F(TwinTest, TwinsInThreadsMatchTwinsAlone) {
@@ -271,6 +290,57 @@ TEST_F(TwinTest, ABlowUpNamesTheObjectAndTheTime) {
     const std::string what = e.what();
     EXPECT_NE(what.find("t = "), std::string::npos) << what;
     EXPECT_NE(what.find("object '"), std::string::npos) << what;
+  }
+}
+
+// In the CFD's air (mean flow only) a tracer placed downstream of s is blown further out, along the
+// CFD's velocity where it starts; s is the CFD's.
+TEST_F(TwinTest, InCfdAirATracerIsBlownAlongTheCfdsFlow) {
+  const NozzleOrientation o{0.5, deg_to_rad(22.5)};
+  TwinParameters p = eq8_parameters();
+  p.cfd_air = shipped_cfd();
+  p.initial_orientation = o;
+  p.jet_on_at_start = true;
+  const CfdOrientedField air = shipped_cfd()->at(o);
+  const Eigen::Vector2d s = air.stagnation_point();
+  for (const double angle : {0.0, 0.4, 2.0}) {
+    const Eigen::Vector2d dir(std::cos(o.pan_rad + angle), std::sin(o.pan_rad + angle));
+    SceneSpec spec;
+    spec.objects = {{"t", "tracer", s + 0.3 * dir, 0.0}};
+    Twin twin(spec, p, field_model(), 3);
+    twin.settle_jet();
+    EXPECT_LT((twin.stagnation_point() - s).norm(), 1e-12);
+    const Eigen::Vector2d p0 = twin.object_state(0).p_W;
+    const Eigen::Vector2d u0 = air.at(p0, 0.005).u_W;
+    twin.advance(0.3);
+    const Eigen::Vector2d moved = twin.object_state(0).p_W - p0;
+    std::printf(
+        "CFD air, alpha %.1f rad: moved %.1f mm, %.1f deg off the CFD's flow at the start\n", angle,
+        1e3 * moved.norm(), rad_to_deg(std::acos(moved.normalized().dot(u0.normalized()))));
+    EXPECT_GT(moved.norm(), 0.02);
+    // Over 0.3 s the flow's direction along the path turns by a few degrees only (it is near
+    // radial from s); the disc's rocking adds a little. 10 deg.
+    EXPECT_GT(moved.normalized().dot(u0.normalized()), std::cos(deg_to_rad(10.0)));
+    EXPECT_GT((p0 + moved - s).norm(), (p0 - s).norm());
+    expect_no_warnings(twin);
+  }
+}
+
+TEST_F(TwinTest, CfdAirNotCoveringTheNozzlesTiltsIsOneClearError) {
+  const std::string dir = testing::fresh_scratch_dir("twin_cfd_range");
+  testing::write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.25, [](double, double, double) {
+    return std::array<double, 6>{1.0, 0.0, 0.0, 0.01, 0.1, 0.0};
+  });
+  TwinParameters p;
+  p.cfd_air = std::make_shared<const CfdField>(CfdField::read_dir(dir));
+  SceneSpec spec;
+  try {
+    Twin twin(spec, p, field_model(), 1);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not covered by the CFD cases' [10.000000, 10.000000]"),
+              std::string::npos)
+        << e.what();
   }
 }
 
