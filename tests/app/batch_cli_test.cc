@@ -55,7 +55,6 @@ std::string md_results_of(const std::string& dir) {
   return md.substr(0, md.find("## Timing"));
 }
 
-// Starts `airtwin ARGS...` as a child process with its output discarded; returns its pid.
 // Starts airtwin with `args` in the background; its stderr (the progress lines) is readable from
 // *stderr_fd, so that the caller waits on the batch's own output instead of sleeping.
 pid_t start_airtwin(const std::vector<std::string>& args, int* stderr_fd) {

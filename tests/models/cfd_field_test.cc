@@ -17,6 +17,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "tests/support/cfd_cases.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -24,7 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("airtwin_cfd_field_test_" + name);
+  const fs::path d = fs::path(testing::scratch_root()) / ("cfd_field_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();

@@ -11,6 +11,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -56,7 +57,7 @@ TEST(FieldTable, CsvRoundTripIsExact) {
   const std::string text = t.to_csv();
   const FieldTable back = FieldTable::parse_csv(text, "mem");
   EXPECT_EQ(back.to_csv(), text);
-  const auto path = std::filesystem::temp_directory_path() / "airtwin_table_roundtrip.csv";
+  const auto path = std::filesystem::path(testing::scratch_root()) / "table_roundtrip.csv";
   t.save_csv(path.string());
   EXPECT_EQ(FieldTable::load_csv(path.string()).to_csv(), text);
   std::filesystem::remove(path);

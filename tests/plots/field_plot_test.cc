@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin::plots {
 namespace {
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 
 // A per-test output path (tests may run in parallel).
 std::string out_path(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "airtwin_field_plot_test";
+  const fs::path dir = fs::path(testing::scratch_root()) / "field_plot";
   fs::create_directories(dir);
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   return (dir / (std::string(info->name()) + "_" + name + ".png")).string();

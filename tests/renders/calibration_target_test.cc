@@ -27,6 +27,7 @@
 #include "renders/png.h"
 #include "sim/mujoco_runtime.h"
 #include "sim/scene_builder.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -34,8 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("airtwin_calibration_target_test_" + std::to_string(::getpid())) / name;
+  const fs::path dir = fs::path(testing::scratch_root()) / "calibration_target" / name;
   fs::remove_all(dir);
   return dir;
 }

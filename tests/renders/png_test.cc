@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "common/errors.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -29,7 +30,7 @@ TEST(Png, RoundTripIsLosslessAndBytesRepeat) {
   const auto bytes = encode_png(image);
   EXPECT_EQ(bytes, encode_png(image.clone()));
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "airtwin_png_test_frame.png";
+      std::filesystem::path(testing::scratch_root()) / "png_test_frame.png";
   write_png(path.string(), image);
   std::ifstream in(path, std::ios::binary);
   const std::vector<unsigned char> on_disk((std::istreambuf_iterator<char>(in)), {});

@@ -18,13 +18,13 @@
 #include <opencv2/videoio.hpp>
 
 #include "common/errors.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
 
 std::string scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("airtwin_video_test_" + std::to_string(::getpid()) + "_" + name);
+  const auto dir = std::filesystem::path(testing::scratch_root()) / ("video_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

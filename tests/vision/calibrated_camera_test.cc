@@ -14,6 +14,7 @@
 #include <string>
 
 #include "common/errors.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -45,8 +46,7 @@ CalibratedCamera rig_like_camera() {
 }
 
 std::string temp_path(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("airtwin_calibrated_camera_test_" + std::to_string(::getpid()));
+  const fs::path dir = fs::path(testing::scratch_root()) / "calibrated_camera";
   fs::create_directories(dir);
   return (dir / name).string();
 }

@@ -28,6 +28,7 @@
 #include "renders/camera_model.h"
 #include "sim/mujoco_runtime.h"
 #include "sim/scene_builder.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -35,8 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path test_dir(const std::string& name) {
-  return fs::temp_directory_path() /
-         ("airtwin_camera_calibration_test_" + std::to_string(::getpid())) / name;
+  return fs::path(testing::scratch_root()) / "camera_calibration" / name;
 }
 
 // A dataset rendered once per test program (rendering is the slow part).

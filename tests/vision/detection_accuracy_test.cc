@@ -25,6 +25,7 @@
 #include "renders/camera_model.h"
 #include "renders/frame_renderer.h"
 #include "sim/twin.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/vision/twin_frames.h"
 #include "vision/camera_calibration.h"
 #include "vision/object_detector.h"
@@ -67,8 +68,8 @@ class DetectionAccuracy : public ::testing::Test {
  protected:
   // The camera as the pipeline knows it: calibrated once from 8 rendered views of the board.
   static void SetUpTestSuite() {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                      ("airtwin_detection_accuracy_" + std::to_string(::getpid()));
+    const std::filesystem::path dir =
+        std::filesystem::path(testing::scratch_root()) / "detection_accuracy";
     CalibrationDatasetOptions options;
     options.views = 8;
     options.seed = 3;

@@ -16,6 +16,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "common/errors.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -23,8 +24,7 @@ namespace fs = std::filesystem;
 
 // A fresh folder under the temp dir for one test.
 std::string scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("airtwin_frame_source_" + std::to_string(::getpid())) / name;
+  const fs::path dir = fs::path(testing::scratch_root()) / "frame_source" / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
