@@ -175,33 +175,36 @@ CfdCase CfdCase::read(const std::string& header_path) {
   return c;
 }
 
-CfdSample CfdCase::at_height(size_t height, double x_m, double y_abs_m) const {
+void CfdCase::accumulate(double x_m, double y_abs_m, size_t lo, double t, double weight,
+                         double acc[4]) const {
   const double fx = (x_m - x0_m_) / dx_m_, fy = (y_abs_m - y0_m_) / dy_m_;
-  CfdSample out;
   if (!(fx >= 0.0 && fy >= 0.0 && fx <= static_cast<double>(nx_ - 1) &&
         fy <= static_cast<double>(ny_ - 1))) {
-    out.k = k_ambient_;
-    out.epsilon = epsilon_ambient_;
-    return out;  // still air outside the grid
+    acc[2] += weight * k_ambient_;  // still air outside the grid
+    acc[3] += weight * epsilon_ambient_;
+    return;
   }
   const long ix = std::min(static_cast<long>(fx), nx_ - 2);
   const long iy = std::min(static_cast<long>(fy), ny_ - 2);
   const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
-  const Node* row0 =
-      nodes_.data() +
-      (height * static_cast<size_t>(ny_) + static_cast<size_t>(iy)) * static_cast<size_t>(nx_) +
-      static_cast<size_t>(ix);
-  const Node* row1 = row0 + nx_;
   const double w00 = (1.0 - ty) * (1.0 - tx), w10 = (1.0 - ty) * tx, w01 = ty * (1.0 - tx),
                w11 = ty * tx;
-  double v[4];
+  const size_t plane = static_cast<size_t>(ny_) * static_cast<size_t>(nx_);
+  const Node* row0 = nodes_.data() + lo * plane +
+                     static_cast<size_t>(iy) * static_cast<size_t>(nx_) + static_cast<size_t>(ix);
+  const Node* row1 = row0 + nx_;
+  const double wl = weight * (1.0 - t);
   for (int f = 0; f < 4; ++f) {
-    v[f] = w00 * row0[0][f] + w10 * row0[1][f] + w01 * row1[0][f] + w11 * row1[1][f];
+    acc[f] += wl * (w00 * row0[0][f] + w10 * row0[1][f] + w01 * row1[0][f] + w11 * row1[1][f]);
   }
-  out.u_W = {v[0], v[1]};
-  out.k = v[2];
-  out.epsilon = v[3];
-  return out;
+  if (t > 0.0) {
+    const Node* up0 = row0 + plane;
+    const Node* up1 = up0 + nx_;
+    const double wu = weight * t;
+    for (int f = 0; f < 4; ++f) {
+      acc[f] += wu * (w00 * up0[0][f] + w10 * up0[1][f] + w01 * up1[0][f] + w11 * up1[1][f]);
+    }
+  }
 }
 
 std::pair<size_t, double> CfdCase::height_bracket(double z_m) const {
@@ -213,16 +216,13 @@ std::pair<size_t, double> CfdCase::height_bracket(double z_m) const {
 }
 
 CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
-  const double y_abs = std::abs(y_m);
   const auto [lo, t] = height_bracket(z_m);
-  CfdSample out = at_height(lo, x_m, y_abs);
-  if (t > 0.0) {
-    const CfdSample up = at_height(lo + 1, x_m, y_abs);
-    out.u_W = (1.0 - t) * out.u_W + t * up.u_W;
-    out.k = (1.0 - t) * out.k + t * up.k;
-    out.epsilon = (1.0 - t) * out.epsilon + t * up.epsilon;
-  }
-  if (y_m < 0.0) out.u_W.y() = -out.u_W.y();  // the mirror image
+  double acc[4] = {0.0, 0.0, 0.0, 0.0};
+  accumulate(x_m, std::abs(y_m), lo, t, 1.0, acc);
+  CfdSample out;
+  out.u_W = {acc[0], y_m < 0.0 ? -acc[1] : acc[1]};  // the mirror image for y < 0
+  out.k = acc[2];
+  out.epsilon = acc[3];
   return out;
 }
 
@@ -253,6 +253,10 @@ CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry)
   std::sort(cases_.begin(), cases_.end(),
             [](const CfdCase& a, const CfdCase& b) { return a.tilt_rad() < b.tilt_rad(); });
   for (size_t i = 1; i < cases_.size(); ++i) {
+    if (cases_[i].heights_m() != cases_[0].heights_m()) {
+      throw InputError("CFD field: cases " + cases_[0].name() + " and " + cases_[i].name() +
+                       " are sampled at different heights");
+    }
     if (cases_[i].tilt_rad() == cases_[i - 1].tilt_rad()) {
       throw InputError("CFD field: cases " + cases_[i - 1].name() + " and " + cases_[i].name() +
                        " have the same tilt");
@@ -335,16 +339,20 @@ CfdSample CfdField::at(const NozzleOrientation& o, const Eigen::Vector2d& p_W, d
 CfdSample CfdOrientedField::at(const Eigen::Vector2d& p_W, double z_m) const {
   const double c = cos_pan_, s = sin_pan_;
   // The point in the case frame (pan 0); each case shifted to put its s on the interpolated s.
+  // Every case has the same heights (CfdField checks), so one height bracket serves both.
   const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
-  CfdSample out = field_->cases_[lo_].at(x + shift_lo_, y, z_m);
-  if (w_ > 0.0) {
-    const CfdSample up = field_->cases_[hi_].at(x + shift_hi_, y, z_m);
-    out.u_W = (1.0 - w_) * out.u_W + w_ * up.u_W;
-    out.k = (1.0 - w_) * out.k + w_ * up.k;
-    out.epsilon = (1.0 - w_) * out.epsilon + w_ * up.epsilon;
-  }
+  const double y_abs = std::abs(y);
+  const CfdCase& lo = field_->cases_[lo_];
+  const auto [h, t] = lo.height_bracket(z_m);
+  double acc[4] = {0.0, 0.0, 0.0, 0.0};
+  lo.accumulate(x + shift_lo_, y_abs, h, t, 1.0 - w_, acc);
+  if (w_ > 0.0) field_->cases_[hi_].accumulate(x + shift_hi_, y_abs, h, t, w_, acc);
+  const double ux = acc[0], uy = y < 0.0 ? -acc[1] : acc[1];
   // Back to the world frame.
-  out.u_W = Eigen::Vector2d(c * out.u_W.x() - s * out.u_W.y(), s * out.u_W.x() + c * out.u_W.y());
+  CfdSample out;
+  out.u_W = Eigen::Vector2d(c * ux - s * uy, s * ux + c * uy);
+  out.k = acc[2];
+  out.epsilon = acc[3];
   return out;
 }
 

@@ -57,9 +57,13 @@ class CfdCase {
   double vertical_at(double x_m, double y_m, double z_m) const;
 
  private:
-  CfdSample at_height(size_t height, double x_m, double y_abs_m) const;
+  friend class CfdOrientedField;
   // The height bracket of z: lower index and weight of the upper one (0 at or past the ends).
   std::pair<size_t, double> height_bracket(double z_m) const;
+  // Adds weight x (ux, uy, k, epsilon) at (x, |y|), between heights lo and lo + 1 with weight t
+  // of the upper one, to acc: one grid lookup for both heights.
+  void accumulate(double x_m, double y_abs_m, size_t lo, double t, double weight,
+                  double acc[4]) const;
 
   std::string name_;
   double tilt_rad_ = 0.0;
