@@ -1,5 +1,6 @@
 // airtwin field: the air on the floor for one nozzle orientation on a grid centred on the origin,
-// as CSV (x,y,vx,vy,speed) and optionally as a PNG picture: the analytical model (eqs. 1-3, the
+// as CSV (x,y,vx,vy,speed), optionally as a field grid for `airtwin fitfield --cfd`
+// (pan_deg,tilt_deg,x,y,speed,vx,vy) and as a PNG picture: the analytical model (eqs. 1-3, the
 // default) or the CFD of the jet (data/cfd/, models/cfd_field.h).
 
 #include <cmath>
@@ -7,12 +8,14 @@
 #include <optional>
 #include <string>
 
+#include "app/cfd_source.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/air_field.h"
 #include "models/cfd_field.h"
+#include "models/field_grid.h"
 #include "plots/field_plot.h"
 
 namespace airtwin::cli {
@@ -26,6 +29,7 @@ struct FieldArgs {
   double step_m = 0.02;
   std::string out;
   std::string png;
+  std::string fit_grid;
   std::string source = "model";
   std::string cfd_dir = "data/cfd";
   double height_m = 0.015;
@@ -59,7 +63,7 @@ void run_field(const FieldArgs& a) {
   const OrientedField field = model.at(orientation);
   std::optional<CfdField> cfd_field;
   if (cfd) {
-    cfd_field = CfdField::read_dir(a.cfd_dir);
+    cfd_field = read_cfd_source(a.cfd_dir);
     cfd_field->stagnation_point(orientation);  // a tilt outside the cases: one clear error now
   }
 
@@ -85,6 +89,9 @@ void run_field(const FieldArgs& a) {
   p.row(0) = grid.x.transpose();
   std::string csv = "x,y,vx,vy,speed\n";
   csv.reserve(static_cast<size_t>(n * n) * 48);
+  FieldGrid fit_grid;  // the same samples with their orientation, for fitfield
+  fit_grid.source = a.fit_grid;
+  fit_grid.kind = GridKind::kSimulated;
   char line[128];
   for (long j = 0; j < n; ++j) {
     p.row(1).setConstant(grid.y[j]);
@@ -103,9 +110,18 @@ void run_field(const FieldArgs& a) {
       std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.6f\n", grid.x[i], grid.y[j], vx, vy,
                     speed);
       csv += line;
+      if (!a.fit_grid.empty()) {
+        FieldSample sample;
+        sample.orientation = orientation;
+        sample.p_W = {grid.x[i], grid.y[j]};
+        sample.speed_mps = speed;
+        sample.v_W = {vx, vy};
+        fit_grid.samples.push_back(sample);
+      }
     }
   }
   write_text_file(a.out, csv);
+  if (!a.fit_grid.empty()) write_text_file(a.fit_grid, field_grid_to_csv(fit_grid));
 
   const Eigen::Vector2d s = cfd ? cfd_field->stagnation_point(orientation)
                                 : field.stagnation_point(),
@@ -136,7 +152,9 @@ void add_field_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "field",
       "Evaluate the analytical air field (eqs. 1-3) for one nozzle orientation on a grid\n"
-      "centred on the origin; write CSV x,y,vx,vy,speed (m, m/s) and optionally a PNG.");
+      "centred on the origin, or the jet's CFD (--source cfd); write CSV x,y,vx,vy,speed (m, "
+      "m/s),\n"
+      "optionally the same as a grid for 'airtwin fitfield --cfd' (--fit-grid) and a PNG.");
   sub->add_option("--pan", args->pan_deg, "Nozzle pan angle theta in degrees")->required();
   sub->add_option("--tilt", args->tilt_deg, "Nozzle tilt angle phi in degrees (0 = straight down)")
       ->required();
@@ -152,12 +170,17 @@ void add_field_command(CLI::App& app) {
          "model: eqs. (1)-(3) with the table; cfd: the jet's CFD (data/cfd/, docs/cfd.md), "
          "interpolated between its tilts")
       ->capture_default_str();
-  sub->add_option("--cfd", args->cfd_dir, "With --source cfd: the folder of CFD cases")
+  sub->add_option("--cfd", args->cfd_dir,
+                  "With --source cfd: the folder of CFD cases, or one case's .json header (that "
+                  "tilt only, e.g. the held-out 37.5 deg)")
       ->capture_default_str();
   sub->add_option("--height", args->height_m,
                   "With --source cfd: height above the floor in metres (the data: 4-25 mm)")
       ->capture_default_str();
   sub->add_option("--png", args->png, "Also write a picture of the field (PNG)");
+  sub->add_option("--fit-grid", args->fit_grid,
+                  "Also write the samples as a field grid for 'airtwin fitfield --cfd': "
+                  "pan_deg,tilt_deg,x,y,speed,vx,vy (deg, m, m/s; speed = |(vx, vy)|)");
   sub->callback([args] { run_field(*args); });
 }
 

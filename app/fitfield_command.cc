@@ -1,6 +1,7 @@
 // airtwin fitfield: Appendix C. Fits the eq. (3) coefficient table to a measured (hot-wire) grid,
 // optionally fused with a CFD grid, writes the table CSV and prints a JSON report of how well the
-// fitted model agrees with each source (models/field_fit.h, docs/field_fitting.md).
+// fitted model agrees with each source (models/field_fit.h, docs/field_fitting.md). With
+// --evaluate TABLE it fits nothing and reports the same agreement for a given table.
 
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
@@ -15,6 +17,7 @@
 #include "common/units.h"
 #include "models/field_fit.h"
 #include "models/field_grid.h"
+#include "models/field_table.h"
 
 namespace airtwin::cli {
 namespace {
@@ -23,6 +26,7 @@ struct FitFieldArgs {
   std::string grid;
   std::string cfd;
   std::string out;
+  std::string evaluate;
   FieldFitOptions options;
 };
 
@@ -33,29 +37,44 @@ nlohmann::ordered_json number(double v, int decimals) {
   return std::round(v * scale) / scale;
 }
 
+// The agreement of a table with each source, one array entry per tilt (fit and --evaluate).
+struct Agreement {
+  nlohmann::ordered_json tilts, n_grid, n_cfd, mape_grid, mape_cfd, nm_grid, nm_cfd, rmse_grid,
+      rmse_cfd, angle, n_angle;
+};
+
+Agreement agreement(const std::vector<TiltFitReport>& reports) {
+  using json = nlohmann::ordered_json;
+  Agreement g;
+  for (json* v : {&g.tilts, &g.n_grid, &g.n_cfd, &g.mape_grid, &g.mape_cfd, &g.nm_grid, &g.nm_cfd,
+                  &g.rmse_grid, &g.rmse_cfd, &g.angle, &g.n_angle}) {
+    *v = json::array();
+  }
+  for (const TiltFitReport& r : reports) {
+    g.tilts.push_back(number(rad_to_deg(r.tilt_rad), 6));
+    g.mape_grid.push_back(number(r.grid.mape_pct, 4));
+    g.mape_cfd.push_back(number(r.cfd.mape_pct, 4));
+    g.n_grid.push_back(r.grid.n_samples);
+    g.n_cfd.push_back(r.cfd.n_samples);
+    g.nm_grid.push_back(r.grid.n_mape_samples);
+    g.nm_cfd.push_back(r.cfd.n_mape_samples);
+    g.rmse_grid.push_back(number(r.grid.rmse_mps, 6));
+    g.rmse_cfd.push_back(number(r.cfd.rmse_mps, 6));
+    g.angle.push_back(number(r.cfd_direction_error_deg, 4));
+    g.n_angle.push_back(r.n_direction_samples);
+  }
+  return g;
+}
+
 nlohmann::ordered_json report_json(const FitFieldArgs& a, const FieldFitResult& fit) {
   using json = nlohmann::ordered_json;
   const FieldFitOptions& o = a.options;
-  json tilts = json::array(), mape_grid = json::array(), mape_cfd = json::array();
-  json n_grid = json::array(), n_cfd = json::array(), nm_grid = json::array(),
-       nm_cfd = json::array();
-  json rmse_grid = json::array(), rmse_cfd = json::array(), angle = json::array(),
-       n_angle = json::array(), bins = json::array(), start = json::array();
+  const Agreement g = agreement(fit.tilts);
+  json bins = json::array(), start = json::array();
   json iterations = json::array(), evaluations = json::array(), status = json::array(),
        converged = json::array(), warnings = json::array();
   for (const TiltFitReport& r : fit.tilts) {
     const double tilt_deg = rad_to_deg(r.tilt_rad);
-    tilts.push_back(number(tilt_deg, 6));
-    mape_grid.push_back(number(r.grid.mape_pct, 4));
-    mape_cfd.push_back(number(r.cfd.mape_pct, 4));
-    n_grid.push_back(r.grid.n_samples);
-    n_cfd.push_back(r.cfd.n_samples);
-    nm_grid.push_back(r.grid.n_mape_samples);
-    nm_cfd.push_back(r.cfd.n_mape_samples);
-    rmse_grid.push_back(number(r.grid.rmse_mps, 6));
-    rmse_cfd.push_back(number(r.cfd.rmse_mps, 6));
-    angle.push_back(number(r.cfd_direction_error_deg, 4));
-    n_angle.push_back(r.n_direction_samples);
     bins.push_back(r.alpha_bins_with_data);
     start.push_back({{"b1", number(r.start_profile.b1, 8)},
                      {"b2", number(r.start_profile.b2, 8)},
@@ -100,15 +119,15 @@ nlohmann::ordered_json report_json(const FitFieldArgs& a, const FieldFitResult& 
       {"command", "fitfield"},
       {"inputs", {{"grid", a.grid}, {"cfd", a.cfd.empty() ? json(nullptr) : json(a.cfd)}}},
       {"out", a.out},
-      {"tilts_deg", tilts},
-      {"n_points", {{"grid", n_grid}, {"cfd", n_cfd}}},
-      {"mape_pct", {{"grid", mape_grid}, {"cfd", mape_cfd}}},
-      {"n_mape_points", {{"grid", nm_grid}, {"cfd", nm_cfd}}},
+      {"tilts_deg", g.tilts},
+      {"n_points", {{"grid", g.n_grid}, {"cfd", g.n_cfd}}},
+      {"mape_pct", {{"grid", g.mape_grid}, {"cfd", g.mape_cfd}}},
+      {"n_mape_points", {{"grid", g.nm_grid}, {"cfd", g.nm_cfd}}},
       {"mape_min_speed_mps", o.mape_min_speed_mps},
       {"mape_definition", mape_text},
-      {"rmse_mps", {{"grid", rmse_grid}, {"cfd", rmse_cfd}}},
-      {"cfd_direction_error_deg", angle},
-      {"n_direction_points", n_angle},
+      {"rmse_mps", {{"grid", g.rmse_grid}, {"cfd", g.rmse_cfd}}},
+      {"cfd_direction_error_deg", g.angle},
+      {"n_direction_points", g.n_angle},
       {"direction_definition", angle_text},
       {"alpha_bins_with_data", bins},
       {"fusion",
@@ -130,6 +149,43 @@ nlohmann::ordered_json report_json(const FitFieldArgs& a, const FieldFitResult& 
   };
 }
 
+// The report of --evaluate: the agreement of a given table with the grids, per tilt.
+nlohmann::ordered_json evaluation_json(const FitFieldArgs& a,
+                                       const std::vector<TiltFitReport>& reports) {
+  using json = nlohmann::ordered_json;
+  const Agreement g = agreement(reports);
+  char mape_text[200];
+  std::snprintf(mape_text, sizeof mape_text,
+                "mean of |v_model - v| / v * 100 over samples with data speed v >= %g m/s; "
+                "v_model is the table evaluated by the air-field model",
+                a.options.mape_min_speed_mps);
+  return {
+      {"command", "fitfield --evaluate"},
+      {"table", a.evaluate},
+      {"inputs",
+       {{"grid", a.grid.empty() ? json(nullptr) : json(a.grid)},
+        {"cfd", a.cfd.empty() ? json(nullptr) : json(a.cfd)}}},
+      {"tilts_deg", g.tilts},
+      {"n_points", {{"grid", g.n_grid}, {"cfd", g.n_cfd}}},
+      {"mape_pct", {{"grid", g.mape_grid}, {"cfd", g.mape_cfd}}},
+      {"n_mape_points", {{"grid", g.nm_grid}, {"cfd", g.nm_cfd}}},
+      {"mape_min_speed_mps", a.options.mape_min_speed_mps},
+      {"mape_definition", mape_text},
+      {"rmse_mps", {{"grid", g.rmse_grid}, {"cfd", g.rmse_cfd}}},
+      {"cfd_direction_error_deg", g.angle},
+  };
+}
+
+// One top-level key per line, each value compact: readable, and still plain JSON.
+void print_report(const nlohmann::ordered_json& report) {
+  std::string text = "{\n";
+  for (auto it = report.begin(); it != report.end(); ++it) {
+    text += "  " + nlohmann::json(it.key()).dump() + ": " + it.value().dump();
+    text += std::next(it) == report.end() ? "\n" : ",\n";
+  }
+  std::printf("%s}\n", text.c_str());
+}
+
 void run_fitfield(FitFieldArgs a) {
   FieldFitOptions& o = a.options;
   require_range(o.fusion_length_m, 1e-3, 100, "--fusion-length", "a length in [0.001, 100] m");
@@ -139,6 +195,21 @@ void run_fitfield(FitFieldArgs a) {
   require_range(o.max_evaluations, 1, 100000, "--max-evaluations", "a count in [1, 100000]");
   require_range(o.time_budget_s, 0.01, 86400, "--time-budget", "seconds in [0.01, 86400]");
 
+  // --evaluate: no fit, the given table against whichever grids are given.
+  if (!a.evaluate.empty()) {
+    if (!a.out.empty()) throw UsageError("--out: nothing is written with --evaluate");
+    if (a.grid.empty() && a.cfd.empty()) throw UsageError("--evaluate needs --grid or --cfd");
+    FieldGrid grid, cfd;
+    if (!a.grid.empty()) grid = load_field_grid(a.grid, GridKind::kMeasured);
+    if (!a.cfd.empty()) cfd = load_field_grid(a.cfd, GridKind::kSimulated);
+    const FieldTable table = FieldTable::load_csv(a.evaluate);
+    print_report(evaluation_json(a, evaluate_field_table(table, a.grid.empty() ? nullptr : &grid,
+                                                         a.cfd.empty() ? nullptr : &cfd, o)));
+    return;
+  }
+  if (a.grid.empty()) throw UsageError("--grid is required (unless --evaluate)");
+  if (a.out.empty()) throw UsageError("--out is required (unless --evaluate)");
+
   const FieldGrid grid = load_field_grid(a.grid, GridKind::kMeasured);
   FieldGrid cfd;
   if (!a.cfd.empty()) cfd = load_field_grid(a.cfd, GridKind::kSimulated);
@@ -146,14 +217,7 @@ void run_fitfield(FitFieldArgs a) {
 
   const FieldFitResult fit = fit_field_table(grid, a.cfd.empty() ? nullptr : &cfd, o);
   fit.table.save_csv(a.out);
-  // One top-level key per line, each value compact: readable, and still plain JSON.
-  const nlohmann::ordered_json report = report_json(a, fit);
-  std::string text = "{\n";
-  for (auto it = report.begin(); it != report.end(); ++it) {
-    text += "  " + nlohmann::json(it.key()).dump() + ": " + it.value().dump();
-    text += std::next(it) == report.end() ? "\n" : ",\n";
-  }
-  std::printf("%s}\n", text.c_str());
+  print_report(report_json(a, fit));
 }
 
 }  // namespace
@@ -167,13 +231,16 @@ void add_fitfield_command(CLI::App& app) {
       "from it. Every sample carries its own pan and tilt; each tilt in the data becomes a table\n"
       "tilt (at least 3). Writes the table CSV (tilt_deg,alpha_deg,b1,b2,b3) and prints a JSON\n"
       "report: MAPE per tilt against each source, CFD direction vs the model's radial direction.\n"
+      "--evaluate TABLE fits nothing: the same report for a given table against the grids.\n"
       "Method and file formats: docs/field_fitting.md.");
   sub->add_option("--grid", args->grid,
-                  "Measured grid CSV: pan_deg,tilt_deg,x,y,speed (deg, m, m/s)")
-      ->required();
+                  "Measured grid CSV: pan_deg,tilt_deg,x,y,speed (deg, m, m/s); required to fit");
   sub->add_option("--cfd", args->cfd,
                   "CFD grid CSV: pan_deg,tilt_deg,x,y,speed,vx,vy (deg, m, m/s)");
-  sub->add_option("--out", args->out, "Output coefficient table CSV")->required();
+  sub->add_option("--out", args->out, "Output coefficient table CSV; required to fit");
+  sub->add_option("--evaluate", args->evaluate,
+                  "Fit nothing: report the MAPE of this table (tilt_deg,alpha_deg,b1,b2,b3) "
+                  "against --grid and/or --cfd");
   FieldFitOptions& o = args->options;
   sub->add_option("--fusion-length", o.fusion_length_m,
                   "L (m): CFD weight L^2/(L^2+r^2), grid weight r^2/(L^2+r^2) at distance r "

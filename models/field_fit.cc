@@ -572,4 +572,46 @@ FieldFitResult fit_field_table(const FieldGrid& grid, const FieldGrid* cfd,
   return result;
 }
 
+std::vector<TiltFitReport> evaluate_field_table(const FieldTable& table, const FieldGrid* grid,
+                                                const FieldGrid* cfd,
+                                                const FieldFitOptions& options) {
+  options.validate();
+  if (grid == nullptr && cfd == nullptr) throw InputError("table evaluation: no samples given");
+  if (grid != nullptr && grid->kind != GridKind::kMeasured) {
+    throw InputError(grid->source + ": expected a measured grid (pan_deg,tilt_deg,x,y,speed)");
+  }
+  if (cfd != nullptr && cfd->kind != GridKind::kSimulated) {
+    throw InputError(cfd->source + ": expected a CFD grid with velocity columns vx, vy");
+  }
+  // Group the samples of each source by tilt.
+  std::map<std::int64_t, TiltSamples> by_tilt;
+  std::map<std::int64_t, double> tilt_rad;
+  if (grid != nullptr) {
+    validate_field_grid(*grid);
+    for (const FieldSample& s : grid->samples) {
+      by_tilt[tilt_key(s.orientation.tilt_rad)].grid.push_back(&s);
+      tilt_rad.emplace(tilt_key(s.orientation.tilt_rad), s.orientation.tilt_rad);
+    }
+  }
+  if (cfd != nullptr) {
+    validate_field_grid(*cfd);
+    for (const FieldSample& s : cfd->samples) {
+      by_tilt[tilt_key(s.orientation.tilt_rad)].cfd.push_back(&s);
+      tilt_rad.emplace(tilt_key(s.orientation.tilt_rad), s.orientation.tilt_rad);
+    }
+  }
+  // The table's agreement with each source, tilt by tilt.
+  const AirFieldModel model(options.geometry, table);
+  std::vector<TiltFitReport> reports;
+  for (const auto& [key, t] : by_tilt) {
+    TiltFitReport r;
+    r.tilt_rad = tilt_rad[key];
+    r.lm_status = "not fitted";
+    add_stats(model, t.grid, options, &r.grid, &r, false);
+    add_stats(model, t.cfd, options, &r.cfd, &r, true);
+    reports.push_back(std::move(r));
+  }
+  return reports;
+}
+
 }  // namespace airtwin

@@ -101,4 +101,15 @@ struct FieldFitResult {
 FieldFitResult fit_field_table(const FieldGrid& grid, const FieldGrid* cfd,
                                const FieldFitOptions& options);
 
+/// The agreement of a given table with the grids, measured as fit_field_table measures its own
+/// fit (MAPE, RMSE, CFD direction) but without fitting: one report per distinct tilt of the
+/// samples (equal to 1e-6 deg), in increasing tilt, the model evaluated at each sample's own
+/// orientation (Makima between the table's tilts, so any tilt the table reaches). The optimiser
+/// fields, start_profile and alpha_bins_with_data stay empty (lm_status "not fitted"). `grid` or
+/// `cfd` may be null, not both. Throws InputError naming the file for an invalid sample or a grid
+/// of the wrong kind, and for an invalid option or geometry.
+std::vector<TiltFitReport> evaluate_field_table(const FieldTable& table, const FieldGrid* grid,
+                                                const FieldGrid* cfd,
+                                                const FieldFitOptions& options);
+
 }  // namespace airtwin
