@@ -31,7 +31,7 @@ struct FieldArgs {
   std::string png;
   std::string fit_grid;
   std::string source = "model";
-  std::string cfd_dir = "data/cfd";
+  std::string cfd_dir = AIRTWIN_CFD_DIR;
   double height_m = 0.015;
 };
 
@@ -51,7 +51,7 @@ void run_field(const FieldArgs& a) {
     throw UsageError("--source: expected model or cfd, got '" + a.source + "'");
   }
   const bool cfd = a.source == "cfd";
-  if (!cfd && (a.cfd_dir != "data/cfd" || a.height_m != 0.015)) {
+  if (!cfd && (a.cfd_dir != AIRTWIN_CFD_DIR || a.height_m != 0.015)) {
     throw UsageError("--cfd and --height need --source cfd");
   }
   if (cfd && !a.table.empty()) throw UsageError("--table is the model's; not with --source cfd");
