@@ -13,6 +13,7 @@
 #include "common/csv.h"
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/field_model_file.h"
 #include "sim/collection.h"
 #include "sim/effects.h"
 
@@ -36,9 +37,8 @@ void run_collect(CollectArgs a) {
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
-  const AirFieldModel field = a.table.empty()
-                                  ? AirFieldModel::with_default_table()
-                                  : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
+  const AirFieldModel field =
+      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
   ensure_parent_dir(a.out);
   const int total = static_cast<int>(o.tilts_rad.size()) * o.per_tilt;
   std::unique_ptr<Progress> progress;
@@ -88,8 +88,8 @@ void add_collect_command(CLI::App& app) {
       ->capture_default_str();
   add_air_flags(sub, args->air);
   sub->add_option("--table", args->table,
-                  "With --air model: the coefficient table CSV of the twin's air field; default:\n"
-                  "the built-in table");
+                  "With --air model: the twin's air model (a coefficient table CSV or a\n"
+                  "field-model JSON); default: the built-in table");
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "

@@ -13,6 +13,7 @@
 #include "models/air_field.h"
 #include "models/discrepancy.h"
 #include "models/extended_model.h"
+#include "models/field_model_file.h"
 #include "models/identified_model.h"
 #include "models/trajectory_data.h"
 #include "plots/residual_plot.h"
@@ -41,9 +42,8 @@ void run(const DiscrepancyArgs& a) {
              [&] { options.validate(); });
 
   const TrajectorySet set = read_trajectory_csv(a.data);
-  const AirFieldModel field = a.table.empty()
-                                  ? AirFieldModel::with_default_table()
-                                  : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
+  const AirFieldModel field =
+      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
   // The nominal dynamics: the paper's, replaced per object type by the models given.
   std::map<std::string, ObjectDynamics> objects = {{"tracer", kTracerDynamics},
                                                    {"cotton", kCottonDynamics}};
@@ -101,7 +101,9 @@ void add_discrepancy_command(CLI::App& app) {
   sub->add_option("--model", args->models,
                   "model.json from 'airtwin identify' (repeatable, one per object type); default:\n"
                   "the paper's coefficients");
-  sub->add_option("--table", args->table, "Field coefficient table (default: built in)");
+  sub->add_option("--table", args->table,
+                  "The controller's air model: a coefficient table CSV or a field-model JSON\n(eq. "
+                  "(2)'s a1, a2 and a table; default: the built-in table)");
   sub->add_option("--holdout", args->holdout, "Fraction of windows held out for scoring")
       ->capture_default_str();
   sub->add_option("--seed", args->seed, "Seed of the train / held-out split")

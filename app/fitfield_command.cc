@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@
 #include "common/units.h"
 #include "models/field_fit.h"
 #include "models/field_grid.h"
+#include "models/field_model_file.h"
 #include "models/field_table.h"
 
 namespace airtwin::cli {
@@ -27,6 +29,8 @@ struct FitFieldArgs {
   std::string cfd;
   std::string out;
   std::string evaluate;
+  std::string eq2;        // "A1,A2": eq. (2)'s coefficients; empty: the paper's
+  std::string model_out;  // field-model JSON naming --out's table with eq. (2)'s a1, a2
   FieldFitOptions options;
 };
 
@@ -194,15 +198,34 @@ void run_fitfield(FitFieldArgs a) {
   require_range(o.threads, 0, 256, "--threads", "a thread count in [0, 256] (0: all cores)");
   require_range(o.max_evaluations, 1, 100000, "--max-evaluations", "a count in [1, 100000]");
   require_range(o.time_budget_s, 0.01, 86400, "--time-budget", "seconds in [0.01, 86400]");
+  if (!a.eq2.empty()) {
+    const Eigen::Vector2d c = parse_xy(a.eq2, "--eq2");
+    o.geometry.a1 = c.x();
+    o.geometry.a2 = c.y();
+    try {
+      o.geometry.validate();
+    } catch (const InputError& e) {
+      throw UsageError(std::string("--eq2: ") + e.what());
+    }
+  }
 
   // --evaluate: no fit, the given table against whichever grids are given.
   if (!a.evaluate.empty()) {
-    if (!a.out.empty()) throw UsageError("--out: nothing is written with --evaluate");
+    if (!a.out.empty() || !a.model_out.empty()) {
+      throw UsageError("--out, --model-out: nothing is written with --evaluate");
+    }
     if (a.grid.empty() && a.cfd.empty()) throw UsageError("--evaluate needs --grid or --cfd");
     FieldGrid grid, cfd;
     if (!a.grid.empty()) grid = load_field_grid(a.grid, GridKind::kMeasured);
     if (!a.cfd.empty()) cfd = load_field_grid(a.cfd, GridKind::kSimulated);
-    const FieldTable table = FieldTable::load_csv(a.evaluate);
+    const AirFieldModel model = is_field_model_file(a.evaluate)
+                                    ? read_air_field_model(a.evaluate)
+                                    : AirFieldModel(o.geometry, FieldTable::load_csv(a.evaluate));
+    if (is_field_model_file(a.evaluate) && !a.eq2.empty()) {
+      throw UsageError("--eq2: the field-model JSON of --evaluate has its own");
+    }
+    o.geometry = model.geometry();
+    const FieldTable& table = model.table();
     print_report(evaluation_json(a, evaluate_field_table(table, a.grid.empty() ? nullptr : &grid,
                                                          a.cfd.empty() ? nullptr : &cfd, o)));
     return;
@@ -217,6 +240,14 @@ void run_fitfield(FitFieldArgs a) {
 
   const FieldFitResult fit = fit_field_table(grid, a.cfd.empty() ? nullptr : &cfd, o);
   fit.table.save_csv(a.out);
+  if (!a.model_out.empty()) {
+    ensure_parent_dir(a.model_out);
+    const std::filesystem::path from = std::filesystem::path(a.model_out).parent_path();
+    write_air_field_model(
+        a.model_out, o.geometry,
+        std::filesystem::relative(a.out, from.empty() ? std::filesystem::path(".") : from)
+            .generic_string());
+  }
   print_report(report_json(a, fit));
 }
 
@@ -238,6 +269,12 @@ void add_fitfield_command(CLI::App& app) {
   sub->add_option("--cfd", args->cfd,
                   "CFD grid CSV: pan_deg,tilt_deg,x,y,speed,vx,vy (deg, m, m/s)");
   sub->add_option("--out", args->out, "Output coefficient table CSV; required to fit");
+  sub->add_option("--eq2", args->eq2,
+                  "A1,A2: eq. (2)'s coefficients that place s for every sample (|c - s| = A1\n"
+                  "|c|^A2); default: the paper's 0.1,2.33");
+  sub->add_option("--model-out", args->model_out,
+                  "Also write a field-model JSON: eq. (2)'s A1, A2 and --out's table, readable\n"
+                  "wherever --table is (docs/data_formats.md)");
   sub->add_option("--evaluate", args->evaluate,
                   "Fit nothing: report the MAPE of this table (tilt_deg,alpha_deg,b1,b2,b3) "
                   "against --grid and/or --cfd");

@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/field_model_file.h"
 #include "models/identification.h"
 
 namespace airtwin::cli {
@@ -121,8 +122,7 @@ void run_identify(IdentifyArgs a) {
       throw InputError(a.data + ": no trajectory of object type '" + a.object + "'");
     }
     const AirFieldModel field =
-        a.table.empty() ? AirFieldModel::with_default_table()
-                        : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(a.table));
+        a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
     model = identify_trajectories(set, a.object, field, o);
     model.source = a.data;
   }
@@ -147,7 +147,8 @@ void add_identify_command(CLI::App& app) {
   sub->add_option("--series", args->series, "Speed series CSV with header t,v,vair instead");
   sub->add_option("--out", args->out, "Output model JSON")->required();
   sub->add_option("--table", args->table,
-                  "Coefficient table CSV for the air speed; default: the built-in table");
+                  "Coefficient table CSV or field-model JSON for the air speed; default: the\n"
+                  "built-in table");
   sub->add_option("--object", args->object,
                   "Object type to identify (required when the file holds several)");
   sub->add_option("--method", args->method, "stlsq | esindy | robust | robust-esindy")

@@ -8,13 +8,16 @@
 #include "app/cli_common.h"
 #include "common/errors.h"
 #include "models/extended_model.h"
+#include "models/field_model_file.h"
 #include "models/identified_model.h"
 #include "sim/effects.h"
 
 namespace airtwin::cli {
 
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& calib_default) {
-  sub->add_option("--table", f.table, "Field coefficient table (default: built in)");
+  sub->add_option("--table", f.table,
+                  "The controller's air model: a coefficient table CSV or a field-model JSON\n(eq. "
+                  "(2)'s a1, a2 and a table; default: the built-in table)");
   sub->add_option("--model", f.models,
                   "model.json from 'airtwin identify' (repeatable, one per object type): the\n"
                   "dynamics the controller plans with instead of the paper's eq. (8)");
@@ -54,8 +57,7 @@ void check_run_setup_flags(const RunSetupFlags& f) {
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) {
-  return f.table.empty() ? AirFieldModel::with_default_table()
-                         : AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(f.table));
+  return f.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(f.table);
 }
 
 ScenarioRunOptions run_options_of(const RunSetupFlags& f) {

@@ -17,7 +17,9 @@
 #   --work DIR     grids, fit reports and the paper-campaign table (default: results/cfd_fit)
 #   --seed N       the hot-wire campaign's seed (default: 1; the shipped table's)
 #   --threads N    threads for hotwire and fitfield (default: 2)
-# Writes models/data/cfd_fitted_field_table.csv and models/data/cfd_fitted_field_table.md.
+# Writes models/data/cfd_fitted_field_table.csv and models/data/cfd_fitted_field_table.md, and
+# models/data/cfd_fitted_field_model.json with its table cfd_fitted_eq2_field_table.csv (eq. (2)
+# refitted to the CFD too).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -89,11 +91,34 @@ echo "fit_table.sh: fitting (the paper's three tilts)" >&2
 "$bin" fitfield --grid "$work/hotwire_paper.csv" --cfd "$work/cfd_paper.csv" \
   --threads "$threads" --out "$work/paper_table.csv" > "$work/fit_paper.json"
 
+# 3b. eq. (2) fitted to the CFD the paper's way: |c - s| = a1 |c|^a2 through the CFD's stagnation
+# points at the paper's tilts (22.5 and 45 deg; at 0 deg c = s = 0), then the fit again with s
+# placed by it. Its field model (eq. (2) and the table) is what a controller reads (--table).
+eq2=$(/usr/bin/python3 - "$cfd" <<'PY'
+import json, math, sys
+pts = []
+for tilt in ("22.5", "45.0"):
+    h = json.load(open("%s/tilt%s_mesh1_d20.json" % (sys.argv[1], tilt.rjust(4, "0"))))
+    c = abs(h["projection_point_c_m"][0]); s = abs(h["stagnation_point_s_m"][0])
+    pts.append((c, c - s))
+(c1, d1), (c2, d2) = pts
+a2 = math.log(d2 / d1) / math.log(c2 / c1)
+a1 = d1 / c1 ** a2
+print("%.6f,%.6f" % (a1, a2))
+PY
+)
+echo "fit_table.sh: eq. (2) fitted to the CFD: a1,a2 = $eq2; fitting under it" >&2
+eq2_table="$top/models/data/cfd_fitted_eq2_field_table.csv"
+eq2_model="$top/models/data/cfd_fitted_field_model.json"
+"$bin" fitfield --grid "$work/hotwire.csv" --cfd "$work/cfd.csv" --threads "$threads" \
+  --eq2 "$eq2" --out "$eq2_table" --model-out "$eq2_model" > "$work/fit_eq2.json"
+
 # 4. Every table against every data set.
 echo "fit_table.sh: evaluating" >&2
-for name in fitted default paper; do
+for name in fitted default paper eq2; do
   case $name in
     fitted) t="$table" ;;
+    eq2) t="$eq2_model" ;;
     default) t="$default_table" ;;
     paper) t="$work/paper_table.csv" ;;
   esac
@@ -103,6 +128,7 @@ for name in fitted default paper; do
     > "$work/eval_${name}_37.5.json"
 done
 
+echo "$eq2" > "$work/eq2.txt"
 # The report: one markdown table, generated from the JSON reports.
 /usr/bin/python3 - "$work" "$report" "$seed" <<'PY'
 import json, os, sys
@@ -123,6 +149,8 @@ def by_tilt(rep):
 fitted = by_tilt(load("eval_fitted.json")); fitted.update(by_tilt(load("eval_fitted_37.5.json")))
 default = by_tilt(load("eval_default.json")); default.update(by_tilt(load("eval_default_37.5.json")))
 three = by_tilt(load("eval_paper.json")); three.update(by_tilt(load("eval_paper_37.5.json")))
+eq2 = by_tilt(load("eval_eq2.json")); eq2.update(by_tilt(load("eval_eq2_37.5.json")))
+eq2_model = load("fit_eq2.json")
 hot = load("hotwire.json"); hot37 = load("hotwire_37.5.json")
 over = dict(zip(hot["tilts_deg"], hot["mean_overreading_pct"]))
 over.update(zip(hot37["tilts_deg"], hot37["mean_overreading_pct"]))
@@ -139,16 +167,19 @@ lines = [
     "to the hot-wire grid and the CFD at tilts 0, 15, 22.5, 30, 45, 60 deg",
     "(models/data/cfd_fitted_field_table.csv); `paper's 3 tilts`: the same fit with the data of 0,",
     "22.5 and 45 deg only, as the paper did; `default`: models/data/default_field_table.csv (wall-jet",
-    "construction). 37.5 deg is the held-out case: no table saw it.",
+    "construction). 37.5 deg is the held-out case: no table saw it. `eq. (2) refitted`: the fit of",
+    "every tilt with s placed by eq. (2) refitted to the CFD's stagnation points at 22.5 and 45 deg",
+    "(models/data/cfd_fitted_field_model.json: a1, a2 = %s; the others use the paper's 0.1, 2.33)." % open(os.path.join(work, "eq2.txt")).read().strip(),
     "",
-    "| tilt (deg) | fitted vs CFD | fitted vs hot-wire | paper's 3 tilts vs CFD | paper's 3 tilts vs hot-wire | default vs CFD | default vs hot-wire | the paper, vs CFD / vs measured | hot-wire over CFD | CFD / hot-wire points |",
-    "|---|---|---|---|---|---|---|---|---|---|",
+    "| tilt (deg) | fitted vs CFD | fitted vs hot-wire | eq. (2) refitted vs CFD | eq. (2) refitted vs hot-wire | paper's 3 tilts vs CFD | paper's 3 tilts vs hot-wire | default vs CFD | default vs hot-wire | the paper, vs CFD / vs measured | hot-wire over CFD | CFD / hot-wire points |",
+    "|---|---|---|---|---|---|---|---|---|---|---|---|",
 ]
 for t in sorted(fitted):
-    f, d, p = fitted[t], default[t], three[t]
-    lines.append("| %g%s | %s | %s | %s | %s | %s | %s | %s | %s | %d / %d |" % (
-        t, " (held out)" if t == 37.5 else "", fmt(f[0]), fmt(f[1]), fmt(p[0]), fmt(p[1]),
-        fmt(d[0]), fmt(d[1]), paper.get(t, "-"), fmt(over.get(t)), f[2], f[3]))
+    f, d, p, e = fitted[t], default[t], three[t], eq2[t]
+    lines.append("| %g%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d / %d |" % (
+        t, " (held out)" if t == 37.5 else "", fmt(f[0]), fmt(f[1]), fmt(e[0]), fmt(e[1]),
+        fmt(p[0]), fmt(p[1]), fmt(d[0]), fmt(d[1]), paper.get(t, "-"), fmt(over.get(t)), f[2],
+        f[3]))
 lines += [
     "",
     "`hot-wire over CFD`: mean of (reading - CFD horizontal speed) / CFD horizontal speed over the",

@@ -53,6 +53,28 @@ TEST(Cli, UsageErrorsExitTwoWithOneLine) {
   expect_failure("aim --stagnation '1;2'", 2, "--stagnation");
   expect_failure("aim --stagnation 0.1,nan", 2, "--stagnation");
   expect_failure("aim --stagnation 0.1,0.2 --max-tilt 80", 2, "--max-tilt");
+  expect_failure("fitfield --grid g.csv --out t.csv --eq2 0.1", 2, "--eq2");
+  expect_failure("fitfield --grid g.csv --out t.csv --eq2 0.1,0.5", 2, "--eq2");
+  expect_failure("fitfield --evaluate t.csv --grid g.csv --model-out m.json", 2, "--model-out");
+}
+
+// The shipped field model fitted to the CFD: eq. (2) with its own a1, a2 places s.
+TEST(Cli, FieldReadsAFieldModelJson) {
+  const std::string path =
+      std::string(AIRTWIN_SOURCE_DIR) + "/models/data/cfd_fitted_field_model.json";
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(path));
+  NozzleGeometry g;
+  g.a1 = j["eq2"]["a1"].get<double>();
+  g.a2 = j["eq2"]["a2"].get<double>();
+  const auto r = run_airtwin("field --pan 0 --tilt 22.5 --extent 0.2 --step 0.1 --table " + path +
+                             " --out " + scratch_dir("field_model") + "/f.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Eigen::Vector2d s = stagnation_point(g, {0.0, deg_to_rad(22.5)});
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "s = (%.4f, %.4f) m", s.x(), s.y());
+  EXPECT_NE(r.out.find(expected), std::string::npos) << r.out << " vs " << expected;
+  // eq. (2) refitted puts s 6 cm nearer the nozzle's foot than the paper's at 22.5 deg.
+  EXPECT_LT(s.x(), stagnation_point(NozzleGeometry{}, {0.0, deg_to_rad(22.5)}).x() - 0.05);
 }
 
 TEST(Cli, FieldWritesTheModelsNumbers) {
