@@ -91,11 +91,22 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
                   "model (the controller's own analytical field, eqs. 1-3: a twin that mirrors\n"
                   "the model)")
       ->capture_default_str();
+  sub->add_option("--drag", flags.drag,
+                  "The objects' drag law: eq8 (c (k u - v), eq. (8) read as physics) or physical\n"
+                  "(1/2 rho C_D(Re) A |u - v| (u - v) with the types' C_D and area; docs/twin.md)")
+      ->capture_default_str();
   sub->add_option("--cfd", flags.cfd_dir,
                   "With --air cfd: the folder of CFD cases (default: the shipped data/cfd)");
 }
 
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
+  if (flags.drag != "eq8" && flags.drag != "physical") {
+    throw UsageError("--drag: expected eq8 or physical, got '" + flags.drag + "'");
+  }
+  if (flags.drag == "physical") {
+    twin->scene.tracer.use_physical_drag();
+    twin->scene.cotton.use_physical_drag();
+  }
   if (flags.air == "model") {
     if (flags.cfd_dir != AIRTWIN_CFD_DIR) throw UsageError("--cfd needs --air cfd");
     twin->cfd_air.reset();
@@ -112,7 +123,8 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
 }
 
 std::string air_identity(const AirFlags& flags) {
-  if (flags.air != "cfd") return flags.air;
+  const std::string drag = ", drag " + flags.drag;
+  if (flags.air != "cfd") return flags.air + drag;
   std::vector<std::string> headers;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(flags.cfd_dir, ec)) {
@@ -124,7 +136,7 @@ std::string air_identity(const AirFlags& flags) {
     std::ifstream in(h, std::ios::binary);
     all += std::string(std::istreambuf_iterator<char>(in), {});
   }
-  return "cfd " + flags.cfd_dir + " " + content_hash(all);
+  return "cfd " + flags.cfd_dir + " " + content_hash(all) + drag;
 }
 
 }  // namespace airtwin::cli

@@ -69,18 +69,19 @@ inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
 struct AirFlags {
   std::string air = "model";
   std::string cfd_dir = AIRTWIN_CFD_DIR;  ///< the shipped cases (data/cfd/)
+  std::string drag = "eq8";               ///< the objects' drag law: eq8 | physical
 };
 
-/// Adds --air cfd|model and --cfd DIR to `sub`.
+/// Adds --air cfd|model, --cfd DIR and --drag eq8|physical to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// Sets twin->cfd_air: the CFD cases of --cfd's folder (read once per folder in a process) for
-/// --air cfd, none for --air model. UsageError naming --air or --cfd; InputError naming the file
-/// for unreadable CFD data.
+/// --air cfd, none for --air model; and every object type's drag law. UsageError naming --air,
+/// --cfd or --drag; InputError naming the file for unreadable CFD data.
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin);
 
 /// What the air flags select, for records: "model", or "cfd" with the folder and a hash of its
-/// case headers.
+/// case headers; then the drag law.
 std::string air_identity(const AirFlags& flags);
 
 /// The effects of the repeatable --effect flag, parsed and applied to `twin` in order; the

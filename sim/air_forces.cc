@@ -84,8 +84,20 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     AIRTWIN_DEMAND(obj.bodies.size() <= kMaxBodiesPerObject &&
                    obj.bodies.size() == obj.area_share.size());
     const ObjectTypeParameters& t = scene.of(obj.type);
+    if (t.drag_law == DragLaw::kPhysical &&
+        !(t.drag_coefficient >= 0.0 && t.frontal_area_m2 > 0.0 && t.drag_length_m > 0.0 &&
+          scene.air_density_kgpm3 > 0.0 && scene.air_viscosity_m2ps > 0.0)) {
+      throw InputError(std::string("object type ") + object_type_name(obj.type) +
+                       ": physical drag needs drag_coefficient >= 0, frontal_area_m2 > 0, "
+                       "drag_length_m > 0 and a positive air density and viscosity");
+    }
     streams_.emplace_back(seed, RandomPurpose::kTurbulence, o);
     PerObject p;
+    p.physical = t.drag_law == DragLaw::kPhysical;
+    p.quadratic = 0.5 * scene.air_density_kgpm3 * t.drag_coefficient * t.frontal_area_m2;
+    p.viscous = p.physical ? 12.0 * scene.air_density_kgpm3 * t.frontal_area_m2 *
+                                 scene.air_viscosity_m2ps / t.drag_length_m
+                           : 0.0;
     p.drag_coefficient = obj.mass_kg * t.drag_rate_per_s;
     p.air_gain = t.air_gain;
     p.pressure_volume = t.pressure_volume_m3;
@@ -308,8 +320,15 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       const Eigen::Vector2d turned(cos_deflection_ * mean.x() - sin_deflection_ * mean.y(),
                                    sin_deflection_ * mean.x() + cos_deflection_ * mean.y());
       const Eigen::Vector2d u = scale * (turned + u_turbulent);
-      // eq. (8) as physics: F = c (k u - v).
-      Eigen::Vector2d f = w * po.drag_coefficient * (po.air_gain * u - v);
+      Eigen::Vector2d f;
+      if (po.physical) {
+        // 1/2 rho C_D(Re) A |u_rel| u_rel, C_D(Re) = C_D + 24 / Re.
+        const Eigen::Vector2d u_rel = u - v;
+        f = w * (po.quadratic * u_rel.norm() + po.viscous) * u_rel;
+      } else {
+        // eq. (8) as physics: F = c (k u - v).
+        f = w * po.drag_coefficient * (po.air_gain * u - v);
+      }
       if (c_quadratic > 0.0) {
         const Eigen::Vector2d u_rel = u - v;
         f += w * obj.mass_kg * c_quadratic * u_rel.norm() * u_rel;

@@ -38,6 +38,11 @@
 // Tracking"). Each object's OU process then decays with its own T_L, taken where it last was.
 // k and epsilon are those of the full jet; sigma is scaled by J f like the mean air.
 //
+// Physical drag (ObjectTypeParameters::drag_law = kPhysical, sim/scene_spec.h) replaces the drag
+// above on every body: F_D = w_b (1/2 rho C_D A |u_rel| + 12 rho A nu / L) u_rel, u_rel = u(p) - v,
+// i.e. 1/2 rho C_D(Re) A |u_rel| u_rel with C_D(Re) = C_D + 24 / Re, Re = |u_rel| L / nu; no
+// parameter of it is an eq. (8) coefficient.
+//
 // Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
 // air velocity by a fixed angle (counter-clockwise positive) at the same speed; quadratic_drag
@@ -134,6 +139,9 @@ class AirForces {
 
  private:
   struct PerObject {
+    bool physical;            // DragLaw::kPhysical
+    double quadratic;         // 1/2 rho C_D A (kg/m)
+    double viscous;           // 12 rho A nu / L (kg/s): the 24/Re part, linear in u - v
     double drag_coefficient;  // c_o (kg/s)
     double air_gain;          // k_o
     double pressure_volume;   // V_o (m^3)

@@ -28,6 +28,14 @@ ObjectTypeParameters ObjectTypeParameters::tracer() {
   p.static_friction_ratio = 1.2;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 2.0 / 3.0 * kPi * r * r * r;  // 7.1e-6 m^3
+  // Physical drag (DragLaw::kPhysical): a hemisphere lying on its face meets horizontal air with
+  // a half disc, pi r^2 / 2 = 3.5e-4 m^2; C_D 0.4, a hemisphere's convex side to the flow
+  // (0.34-0.42; Hoerner, Fluid-Dynamic Drag, 1965); Re on the diameter.
+  p.drag_coefficient = 0.4;
+  p.frontal_area_m2 = 0.5 * kPi * r * r;
+  p.drag_length_m = p.diameter_m;
+  // Expanded polystyrene sliding on a smooth hard floor: 0.3-0.5; 0.35 to start.
+  p.physical_kinetic_friction = 0.35;
   return p;
 }
 
@@ -36,7 +44,20 @@ ObjectTypeParameters ObjectTypeParameters::cotton() {
   p.static_friction_ratio = 1.3;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 0.1 * (4.0 / 3.0 * kPi * r * r * r);  // 6.5e-6 m^3
+  // Physical drag: the wad flattened to 0.6 of its width in z (sim/scene_builder.h) meets the air
+  // with ~0.6 pi r^2 = 1.2e-3 m^2; a fibre wad is porous, so its C_D lies below a solid bluff
+  // body's ~1 and above a sphere's 0.47: 0.6 to start, a calibration parameter within [0.3, 1.2].
+  p.drag_coefficient = 0.6;
+  p.frontal_area_m2 = 0.6 * kPi * r * r;
+  p.drag_length_m = p.diameter_m;
+  // Cotton fibres on a smooth hard floor: 0.3-0.6; 0.4 to start.
+  p.physical_kinetic_friction = 0.4;
   return p;
+}
+
+void ObjectTypeParameters::use_physical_drag() {
+  drag_law = DragLaw::kPhysical;
+  kinetic_friction = physical_kinetic_friction;
 }
 
 ObjectDynamics ObjectTypeParameters::dynamics(double gravity_mps2) const {

@@ -54,6 +54,15 @@ struct SceneSpec {
   std::string source = "scene";
 };
 
+/// How the air pushes an object (sim/air_forces.h).
+enum class DragLaw {
+  /// F = c (k u - v): eq. (8) read as physics (drag_rate_per_s, air_gain).
+  kLinear,
+  /// F = 1/2 rho C_D(Re) A |u - v| (u - v), C_D(Re) = drag_coefficient + 24 / Re, Re = |u - v| L /
+  /// nu: quadratic form drag with the viscous (Stokes) part that takes over at low Re.
+  kPhysical,
+};
+
 /// Physical description of one object type: body, contact and aerodynamics.
 struct ObjectTypeParameters {
   double diameter_m = 0.0;  ///< footprint diameter (m)
@@ -70,6 +79,16 @@ struct ObjectTypeParameters {
   double air_gain = 0.0;
   /// Volume (m^3) on which the stagnation pressure gradient acts (F = -grad p * V).
   double pressure_volume_m3 = 0.0;
+  /// The force law; kLinear uses drag_rate_per_s and air_gain, kPhysical the three below.
+  DragLaw drag_law = DragLaw::kLinear;
+  double drag_coefficient = 0.0;  ///< C_D at high Re (dimensionless, on frontal_area_m2)
+  double frontal_area_m2 = 0.0;   ///< A: the area the horizontal air meets (m^2)
+  double drag_length_m = 0.0;     ///< L of Re (m)
+  /// mu_k with physical drag: a measured-kind value, not eq. (8)'s -xi3 / g.
+  double physical_kinetic_friction = 0.0;
+
+  /// Switches to DragLaw::kPhysical and its friction (physical_kinetic_friction).
+  void use_physical_drag();
 
   /// The mapping of eq. (8) to drag and friction described in the header comment, for a body of
   /// the given diameter and mass; g in m/s^2.
@@ -99,10 +118,12 @@ struct SceneParameters {
   /// ignore a 3 deg slope's sideways pull. With the calibrated turbulence, identification on twin
   /// data finds eq. (8)'s structure at 1, 3 and 10 alike (docs/twin.md, calibration).
   double friction_impedance_ratio = 1.0;
-  double floor_half_size_m = 2.0;    ///< the floor plane spans [-h, h]^2 (m) around the origin
-  double nozzle_height_m = 1.43;     ///< h: tilt shaft and nozzle exit above the floor (m)
-  double camera_height_m = 3.2;      ///< top camera above the floor (m)
-  double camera_half_view_m = 1.35;  ///< half the floor width the top camera sees (m)
+  double floor_half_size_m = 2.0;      ///< the floor plane spans [-h, h]^2 (m) around the origin
+  double air_density_kgpm3 = 1.2;      ///< rho of the room's air (20 C, sea level)
+  double air_viscosity_m2ps = 1.5e-5;  ///< nu, kinematic
+  double nozzle_height_m = 1.43;       ///< h: tilt shaft and nozzle exit above the floor (m)
+  double camera_height_m = 3.2;        ///< top camera above the floor (m)
+  double camera_half_view_m = 1.35;    ///< half the floor width the top camera sees (m)
   /// A floor tilted by this (rad, the floor_slope effect; 0 = level). The world frame stays the
   /// floor's frame (camera, field, positions); gravity tilts instead, with in-plane part
   /// g sin(slope) toward floor_slope_direction_rad (from +x, counter-clockwise).

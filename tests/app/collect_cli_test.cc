@@ -50,6 +50,10 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   ASSERT_EQ(run_airtwin(quick + "--air cfd --out " + d + "/cfd2.csv").exit_code, 0);
   EXPECT_EQ(read_text_file(d + "/cfd.csv"), read_text_file(d + "/cfd2.csv"));
   EXPECT_NE(read_text_file(d + "/a/data.csv"), read_text_file(d + "/cfd.csv"));
+  // Physical drag in the CFD's air: other trajectories again.
+  const auto phys = run_airtwin(quick + "--air cfd --drag physical --out " + d + "/phys.csv");
+  ASSERT_EQ(phys.exit_code, 0) << phys.err;
+  EXPECT_NE(read_text_file(d + "/cfd.csv"), read_text_file(d + "/phys.csv"));
 }
 
 TEST(CollectCli, BadFlagsAreOneClearLine) {
@@ -64,6 +68,7 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect", "--out");
   expect_usage_error("collect --air wind --out x.csv", "--air: expected cfd or model, got 'wind'");
   expect_usage_error("collect --cfd data --out x.csv", "--cfd needs --air cfd");
+  expect_usage_error("collect --drag glue --out x.csv", "--drag: expected eq8 or physical");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
   // A folder without CFD cases: an input error naming it.
   const auto r = run_airtwin("collect --air cfd --cfd " + scratch_dir("no_cfd") + " --out x.csv");

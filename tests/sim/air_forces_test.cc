@@ -11,6 +11,7 @@
 #include <cmath>
 #include <thread>
 
+#include "common/errors.h"
 #include "common/units.h"
 #include "models/cfd_field.h"
 #include "sim/mujoco_runtime.h"
@@ -79,6 +80,40 @@ TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   const Eigen::Vector2d eq8 = xi.xi1 * v + xi.xi2 * 0.7 * field.velocity(p);
   EXPECT_LT((planar_acceleration(f.data.get()) - eq8).norm(), 1e-9 * eq8.norm());
   EXPECT_TRUE(air.fault().empty());
+}
+
+// Physical drag: 1/2 rho C_D(Re) A |u_rel| u_rel with C_D(Re) = C_D + 24 / Re, written here as
+// the drag coefficient's law; at high and at low relative speed (where the viscous part counts).
+TEST(AirForces, PhysicalDragIsQuadraticWithAViscousPart) {
+  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const OrientedField field = field_model.at({0.4, 0.3});
+  SceneParameters scene;
+  scene.tracer.drag_law = DragLaw::kPhysical;
+  const ObjectTypeParameters& t = scene.tracer;
+  const Eigen::Vector2d p(0.3, 0.1);
+  for (const double jet : {1.0, 0.02}) {
+    Floating f;
+    AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
+    air.set_air(field, jet);
+    f.data->qvel[0] = 0.2 * jet;
+    f.data->qvel[1] = -0.1 * jet;
+    {
+      AirForcesScope scope(f.model.get(), &air);
+      mj_forward(f.model.get(), f.data.get());
+    }
+    const Eigen::Vector2d u_rel = jet * field.velocity(p) - Eigen::Vector2d(0.2, -0.1) * jet;
+    const double re = u_rel.norm() * t.drag_length_m / scene.air_viscosity_m2ps;
+    const double cd = t.drag_coefficient + 24.0 / re;
+    const Eigen::Vector2d expected = 0.5 * scene.air_density_kgpm3 * cd * t.frontal_area_m2 *
+                                     u_rel.norm() * u_rel / f.object.mass_kg;
+    std::printf("physical drag at |u_rel| %.3f m/s: Re %.0f, C_D(Re) %.3f, a %.3f m/s^2\n",
+                u_rel.norm(), re, cd, expected.norm());
+    EXPECT_LT((planar_acceleration(f.data.get()) - expected).norm(), 1e-9 * expected.norm());
+  }
+  // A bad parameter is one clear error naming the type.
+  scene.tracer.frontal_area_m2 = 0.0;
+  Floating f;
+  EXPECT_THROW(AirForces(AirForceParameters::none(), scene, {f.object}, 1, 0.001), InputError);
 }
 
 // The tracer's centre of mass sits above its body origin (the flat face, where the force acts).
