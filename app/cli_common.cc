@@ -99,20 +99,28 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
                   "With --air cfd: the folder of CFD cases (default: the shipped data/cfd)");
 }
 
-void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
+void check_air_flags(const AirFlags& flags) {
   if (flags.drag != "eq8" && flags.drag != "physical") {
     throw UsageError("--drag: expected eq8 or physical, got '" + flags.drag + "'");
   }
+  if (flags.air != "cfd" && flags.air != "model") {
+    throw UsageError("--air: expected cfd or model, got '" + flags.air + "'");
+  }
+  if (flags.air == "model" && flags.cfd_dir != AIRTWIN_CFD_DIR) {
+    throw UsageError("--cfd needs --air cfd");
+  }
+}
+
+void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
+  check_air_flags(flags);
   if (flags.drag == "physical") {
     twin->scene.tracer.use_physical_drag();
     twin->scene.cotton.use_physical_drag();
   }
   if (flags.air == "model") {
-    if (flags.cfd_dir != AIRTWIN_CFD_DIR) throw UsageError("--cfd needs --air cfd");
     twin->cfd_air.reset();
     return;
   }
-  if (flags.air != "cfd") throw UsageError("--air: expected cfd or model, got '" + flags.air + "'");
   // One copy per folder in the process: a batch builds many twins from the same cases.
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const CfdField>> loaded;

@@ -75,7 +75,11 @@ struct AirFlags {
 /// Adds --air cfd|model, --cfd DIR and --drag eq8|physical to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
-/// Sets twin->cfd_air: the CFD cases of --cfd's folder (read once per folder in a process) for
+/// UsageError naming --air, --cfd or --drag for a value none of them takes. Reads no file.
+void check_air_flags(const AirFlags& flags);
+
+/// Checks the flags (check_air_flags), then sets twin->cfd_air: the CFD cases of --cfd's folder
+/// (read once per folder in a process) for
 /// --air cfd, none for --air model; and every object type's drag law. UsageError naming --air,
 /// --cfd or --drag; InputError naming the file for unreadable CFD data.
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin);

@@ -51,9 +51,7 @@ void check_run_setup_flags(const RunSetupFlags& f) {
   }
   TwinParameters scratch;
   apply_effect_flags(f.effects, &scratch);
-  if (f.air.air != "cfd" && f.air.air != "model") {
-    throw UsageError("--air: expected cfd or model, got '" + f.air.air + "'");
-  }
+  check_air_flags(f.air);
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) {

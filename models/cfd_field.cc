@@ -138,26 +138,15 @@ CfdCase CfdCase::read(const std::string& header_path) {
   d.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(n * sizeof(float)));
   if (!d) throw InputError(data_path + ": cannot read");
   // Repacked node by node, the four fields the air needs side by side: one lookup touches four
-  // 16-byte nodes per height instead of sixteen scattered floats.
+  // 16-byte nodes per height instead of sixteen scattered floats; uz in a plane of its own (only
+  // the simulated anemometer reads it). Slot 4 of `wanted` is uz.
   const size_t nodes_per_height = static_cast<size_t>(c.ny_) * static_cast<size_t>(c.nx_);
-  const int wanted[4] = {c.ux_, c.uy_, c.k_, c.epsilon_};
-  const char* wanted_name[4] = {"ux", "uy", "k", "epsilon"};
+  const int wanted[5] = {c.ux_, c.uy_, c.k_, c.epsilon_, uz};
+  const char* wanted_name[5] = {"ux", "uy", "k", "epsilon", "uz"};
   c.nodes_.resize(c.heights_m_.size() * nodes_per_height);
   c.uz_.resize(c.heights_m_.size() * nodes_per_height);
   for (size_t h = 0; h < c.heights_m_.size(); ++h) {
-    const float* uz_plane =
-        raw.data() +
-        (h * static_cast<size_t>(c.n_fields_) + static_cast<size_t>(uz)) * nodes_per_height;
-    for (size_t i = 0; i < nodes_per_height; ++i) {
-      if (!std::isfinite(uz_plane[i])) {
-        throw InputError(data_path + ": uz at height " + std::to_string(c.heights_m_[h]) +
-                         " m, node (ix " + std::to_string(i % static_cast<size_t>(c.nx_)) +
-                         ", iy " + std::to_string(i / static_cast<size_t>(c.nx_)) +
-                         ") is not finite");
-      }
-      c.uz_[h * nodes_per_height + i] = uz_plane[i];
-    }
-    for (int f = 0; f < 4; ++f) {
+    for (int f = 0; f < 5; ++f) {
       const float* plane =
           raw.data() + (h * static_cast<size_t>(c.n_fields_) + static_cast<size_t>(wanted[f])) *
                            nodes_per_height;
@@ -168,7 +157,12 @@ CfdCase CfdCase::read(const std::string& header_path) {
                            std::to_string(i % static_cast<size_t>(c.nx_)) + ", iy " +
                            std::to_string(i / static_cast<size_t>(c.nx_)) + ") is not finite");
         }
-        c.nodes_[h * nodes_per_height + i][f] = plane[i];
+        const size_t node = h * nodes_per_height + i;
+        if (f < 4) {
+          c.nodes_[node][f] = plane[i];
+        } else {
+          c.uz_[node] = plane[i];
+        }
       }
     }
   }

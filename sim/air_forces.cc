@@ -78,6 +78,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   // Exact discretisation of the unit-variance OU process over one step.
   timestep_s_ = timestep_s;
   ou_decay_ = std::exp(-timestep_s / params_.turbulence_time_s);
+  ou_kick_ = std::sqrt(std::max(0.0, 1.0 - ou_decay_ * ou_decay_));
   // Per-object coefficients and turbulence streams, the OU state drawn from its stationary law.
   for (size_t o = 0; o < objects_.size(); ++o) {
     const SceneObject& obj = objects_[o];
@@ -107,6 +108,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     const double ey = streams_.back().normal();
     p.eta = Eigen::Vector2d(ex, ey);
     p.decay = ou_decay_;
+    p.kick = ou_kick_;
     per_object_.push_back(p);
   }
   // The flattened body layout and the scratch columns, sized once.
@@ -143,8 +145,8 @@ void AirForces::set_air(const CfdOrientedField& field, double jet_level) {
 void AirForces::advance_turbulence() {
   for (size_t o = 0; o < per_object_.size(); ++o) {
     PerObject& po = per_object_[o];
-    const double decay = cfd_ != nullptr ? po.decay : ou_decay_;
-    const double kick = std::sqrt(std::max(0.0, 1.0 - decay * decay));
+    const bool cfd = cfd_ != nullptr;
+    const double decay = cfd ? po.decay : ou_decay_, kick = cfd ? po.kick : ou_kick_;
     const double ex = streams_[o].normal();
     const double ey = streams_[o].normal();
     po.eta = decay * po.eta + kick * Eigen::Vector2d(ex, ey);
@@ -300,6 +302,7 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       sigma = std::sqrt(2.0 * std::max(k, 0.0) / 3.0);
       if (k > 0.0 && epsilon > 0.0) {
         po.decay = std::exp(-timestep_s_ * epsilon / (params_.lagrangian_time_factor * k));
+        po.kick = std::sqrt(std::max(0.0, 1.0 - po.decay * po.decay));
       }
     } else {
       const double r_obj2 = (centre - s_W).squaredNorm();

@@ -149,6 +149,7 @@ class AirForces {
     double stiction_speed;    // v_stick (m/s)
     Eigen::Vector2d eta;      // OU state, unit variance per component
     double decay;             // eta's decay over one step (exp(-dt / T_L) under the CFD's air)
+    double kick;              // sqrt(1 - decay^2): the new noise's weight, unit variance kept
   };
   // How one body's force reaches qfrc_passive (bound to a model on the first apply()).
   struct BodyDofs {
@@ -167,7 +168,7 @@ class AirForces {
   const CfdOrientedField* cfd_ = nullptr;  // the CFD's
   double jet_level_ = 0.0;
   double timestep_s_ = 0.0;
-  double ou_decay_ = 0.0;  // eta <- decay eta + sqrt(1 - decay^2) N(0, 1), the analytical air's
+  double ou_decay_ = 0.0, ou_kick_ = 0.0;  // eta <- decay eta + kick N(0, 1), the analytical air's
   double cos_deflection_ = 1.0, sin_deflection_ = 0.0;
   // Per body, flattened over the objects (object o's bodies start at first_body_[o]).
   std::vector<size_t> first_body_;

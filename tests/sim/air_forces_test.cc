@@ -57,6 +57,14 @@ struct Floating {
 
 Eigen::Vector2d planar_acceleration(const mjData* d) { return {d->qacc[0], d->qacc[1]}; }
 
+// Gives the body planar velocity v and evaluates the forces of `air` on it once.
+void push_at(Floating& f, AirForces& air, const Eigen::Vector2d& v) {
+  f.data->qvel[0] = v.x();
+  f.data->qvel[1] = v.y();
+  AirForcesScope scope(f.model.get(), &air);
+  mj_forward(f.model.get(), f.data.get());
+}
+
 TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   Floating f;
   const SceneParameters scene;
@@ -65,12 +73,7 @@ TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
   air.set_air(field, 0.7);
   // Give the body a velocity so that both terms of F = c (k J u - v) matter.
-  f.data->qvel[0] = 0.2;
-  f.data->qvel[1] = -0.1;
-  {
-    AirForcesScope scope(f.model.get(), &air);
-    mj_forward(f.model.get(), f.data.get());
-  }
+  push_at(f, air, {0.2, -0.1});
   const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
   const ObjectTypeParameters& t = scene.tracer;
   // a = (c/m)(k J u(p) - v) = -xi1 (xi2/-xi1 J u - v) = xi1 v + xi2 J u: eq. (8) without friction.
@@ -95,12 +98,7 @@ TEST(AirForces, PhysicalDragIsQuadraticWithAViscousPart) {
     Floating f;
     AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
     air.set_air(field, jet);
-    f.data->qvel[0] = 0.2 * jet;
-    f.data->qvel[1] = -0.1 * jet;
-    {
-      AirForcesScope scope(f.model.get(), &air);
-      mj_forward(f.model.get(), f.data.get());
-    }
+    push_at(f, air, Eigen::Vector2d(0.2, -0.1) * jet);
     const Eigen::Vector2d u_rel = jet * field.velocity(p) - Eigen::Vector2d(0.2, -0.1) * jet;
     const double re = u_rel.norm() * t.drag_length_m / scene.air_viscosity_m2ps;
     const double cd = t.drag_coefficient + 24.0 / re;
@@ -376,12 +374,7 @@ TEST(AirForces, InCfdAirTheDragTakesTheCfdVelocityAtTheBodysHeight) {
     AirForces air(AirForceParameters{}, scene, {f.object}, 1, 0.001);  // turbulence from k = 0
     air.set_air(field, 0.7);
     mj_resetData(f.model.get(), f.data.get());
-    f.data->qvel[0] = 0.2;
-    f.data->qvel[1] = -0.1;
-    {
-      AirForcesScope scope(f.model.get(), &air);
-      mj_forward(f.model.get(), f.data.get());
-    }
+    push_at(f, air, {0.2, -0.1});
     const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
     const ObjectTypeParameters& t = scene.tracer;
     const Eigen::Vector2d u = linear_cfd_air(p, 0.01, pan);
