@@ -13,6 +13,7 @@
 #include "common/units.h"
 #include "models/cfd_field.h"
 #include "runs/batch_plan.h"
+#include "sim/object_physics.h"
 
 namespace airtwin::cli {
 
@@ -97,6 +98,10 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
       ->capture_default_str();
   sub->add_option("--cfd", flags.cfd_dir,
                   "With --air cfd: the folder of CFD cases (default: the shipped data/cfd)");
+  sub->add_option("--object-physics", flags.object_physics,
+                  "Set an object type's physical parameters, TYPE:key=value,... (repeatable;\n"
+                  "TYPE tracer or cotton; docs/twin.md). Keys:\n" +
+                      object_physics_help());
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -117,6 +122,13 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     twin->scene.tracer.use_physical_drag();
     twin->scene.cotton.use_physical_drag();
   }
+  for (const std::string& text : flags.object_physics) {
+    try {
+      apply_object_physics(text, &twin->scene);
+    } catch (const InputError& e) {
+      throw UsageError(std::string("--object-physics: ") + e.what());
+    }
+  }
   if (flags.air == "model") {
     twin->cfd_air.reset();
     return;
@@ -131,7 +143,8 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
 }
 
 std::string air_identity(const AirFlags& flags) {
-  const std::string drag = ", drag " + flags.drag;
+  std::string drag = ", drag " + flags.drag;
+  for (const std::string& text : flags.object_physics) drag += ", " + text;
   if (flags.air != "cfd") return flags.air + drag;
   std::vector<std::string> headers;
   std::error_code ec;

@@ -70,9 +70,11 @@ struct AirFlags {
   std::string air = "model";
   std::string cfd_dir = AIRTWIN_CFD_DIR;  ///< the shipped cases (data/cfd/)
   std::string drag = "eq8";               ///< the objects' drag law: eq8 | physical
+  /// --object-physics TYPE:key=value,... (sim/object_physics.h), applied in order after --drag.
+  std::vector<std::string> object_physics;
 };
 
-/// Adds --air cfd|model, --cfd DIR and --drag eq8|physical to `sub`.
+/// Adds --air cfd|model, --cfd DIR, --drag eq8|physical and --object-physics to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// UsageError naming --air, --cfd or --drag for a value none of them takes. Reads no file.
@@ -80,12 +82,13 @@ void check_air_flags(const AirFlags& flags);
 
 /// Checks the flags (check_air_flags), then sets twin->cfd_air: the CFD cases of --cfd's folder
 /// (read once per folder in a process) for
-/// --air cfd, none for --air model; and every object type's drag law. UsageError naming --air,
-/// --cfd or --drag; InputError naming the file for unreadable CFD data.
+/// --air cfd, none for --air model; every object type's drag law, then --object-physics.
+/// UsageError naming --air, --cfd, --drag or --object-physics; InputError naming the file for
+/// unreadable CFD data.
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin);
 
 /// What the air flags select, for records: "model", or "cfd" with the folder and a hash of its
-/// case headers; then the drag law.
+/// case headers; then the drag law and any --object-physics.
 std::string air_identity(const AirFlags& flags);
 
 /// The effects of the repeatable --effect flag, parsed and applied to `twin` in order; the

@@ -8,16 +8,10 @@
 #include <sstream>
 
 #include "common/errors.h"
+#include "common/text.h"
 
 namespace airtwin {
 namespace {
-
-std::string trim(std::string_view s) {
-  size_t b = 0, e = s.size();
-  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
-  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
-  return std::string(s.substr(b, e - b));
-}
 
 std::vector<std::string> split_fields(std::string_view line) {
   std::vector<std::string> out;
@@ -25,10 +19,10 @@ std::vector<std::string> split_fields(std::string_view line) {
   while (true) {
     size_t comma = line.find(',', start);
     if (comma == std::string_view::npos) {
-      out.push_back(trim(line.substr(start)));
+      out.push_back(trim_blanks(line.substr(start)));
       return out;
     }
-    out.push_back(trim(line.substr(start, comma - start)));
+    out.push_back(trim_blanks(line.substr(start, comma - start)));
     start = comma + 1;
   }
 }
@@ -59,7 +53,7 @@ void check_is_text(std::string_view text, const std::string& source) {
 }  // namespace
 
 std::optional<double> parse_finite_double(std::string_view text) {
-  std::string s = trim(text);
+  std::string s = trim_blanks(text);
   if (s.empty()) return std::nullopt;
   errno = 0;
   char* end = nullptr;
@@ -99,7 +93,7 @@ CsvTable CsvTable::parse(std::string_view text, const std::string& source,
         text.substr(pos, nl == std::string_view::npos ? text.size() - pos : nl - pos);
     pos = (nl == std::string_view::npos) ? text.size() : nl + 1;
     ++line_no;
-    std::string line = trim(raw);
+    std::string line = trim_blanks(raw);
     if (line.empty() || line[0] == '#') continue;
     std::vector<std::string> fields = split_fields(line);
     if (!have_header) {

@@ -102,7 +102,7 @@ CfdCase CfdCase::read(const std::string& header_path) {
   for (size_t i = 0; i < fields.size(); ++i) {
     if (fields[i].is_string()) index[fields[i].get<std::string>()] = static_cast<int>(i);
   }
-  for (const char* needed : {"ux", "uy", "uz", "k", "epsilon"}) {
+  for (const char* needed : {"ux", "uy", "uz", "k", "epsilon", "p"}) {
     if (!index.count(needed)) {
       throw InputError(where + ": fields: no '" + std::string(needed) + "' among them");
     }
@@ -139,14 +139,16 @@ CfdCase CfdCase::read(const std::string& header_path) {
   if (!d) throw InputError(data_path + ": cannot read");
   // Repacked node by node, the four fields the air needs side by side: one lookup touches four
   // 16-byte nodes per height instead of sixteen scattered floats; uz in a plane of its own (only
-  // the simulated anemometer reads it). Slot 4 of `wanted` is uz.
+  // the simulated anemometer reads it) and the pressure in another (only the pressure push near s
+  // reads it). Slots 4 and 5 of `wanted` are uz and p.
   const size_t nodes_per_height = static_cast<size_t>(c.ny_) * static_cast<size_t>(c.nx_);
-  const int wanted[5] = {c.ux_, c.uy_, c.k_, c.epsilon_, uz};
-  const char* wanted_name[5] = {"ux", "uy", "k", "epsilon", "uz"};
+  const int wanted[6] = {c.ux_, c.uy_, c.k_, c.epsilon_, uz, index["p"]};
+  const char* wanted_name[6] = {"ux", "uy", "k", "epsilon", "uz", "p"};
   c.nodes_.resize(c.heights_m_.size() * nodes_per_height);
   c.uz_.resize(c.heights_m_.size() * nodes_per_height);
+  c.p_.resize(c.heights_m_.size() * nodes_per_height);
   for (size_t h = 0; h < c.heights_m_.size(); ++h) {
-    for (int f = 0; f < 5; ++f) {
+    for (int f = 0; f < 6; ++f) {
       const float* plane =
           raw.data() + (h * static_cast<size_t>(c.n_fields_) + static_cast<size_t>(wanted[f])) *
                            nodes_per_height;
@@ -161,9 +163,19 @@ CfdCase CfdCase::read(const std::string& header_path) {
         if (f < 4) {
           c.nodes_[node][f] = plane[i];
         } else {
-          c.uz_[node] = plane[i];
+          (f == 4 ? c.uz_ : c.p_)[node] = plane[i];
         }
       }
+    }
+  }
+  // The pressure's reach from s at the lowest height: the farthest node above 1 % of the peak.
+  float p_max = 0.0f;
+  for (size_t i = 0; i < nodes_per_height; ++i) p_max = std::max(p_max, c.p_[i]);
+  for (size_t i = 0; i < nodes_per_height; ++i) {
+    if (p_max > 0.0f && c.p_[i] > 0.01f * p_max) {
+      const double x = c.x0_m_ + static_cast<double>(i % static_cast<size_t>(c.nx_)) * c.dx_m_;
+      const double y = c.y0_m_ + static_cast<double>(i / static_cast<size_t>(c.nx_)) * c.dy_m_;
+      c.pressure_radius_m_ = std::max(c.pressure_radius_m_, std::hypot(x - c.s_x_m_, y));
     }
   }
   return c;
@@ -220,7 +232,8 @@ CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
   return out;
 }
 
-double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
+double CfdCase::plane_at(const std::vector<float>& values, double x_m, double y_m,
+                         double z_m) const {
   const double fx = (x_m - x0_m_) / dx_m_, fy = (std::abs(y_m) - y0_m_) / dy_m_;
   if (!(fx >= 0.0 && fy >= 0.0 && fx <= static_cast<double>(nx_ - 1) &&
         fy <= static_cast<double>(ny_ - 1))) {
@@ -231,7 +244,7 @@ double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
   const double tx = fx - static_cast<double>(ix), ty = fy - static_cast<double>(iy);
   auto plane = [&](size_t h) {
     const float* r0 =
-        uz_.data() +
+        values.data() +
         (h * static_cast<size_t>(ny_) + static_cast<size_t>(iy)) * static_cast<size_t>(nx_) +
         static_cast<size_t>(ix);
     const float* r1 = r0 + nx_;
@@ -239,6 +252,17 @@ double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
   };
   const auto [lo, t] = height_bracket(z_m);
   return t > 0.0 ? (1.0 - t) * plane(lo) + t * plane(lo + 1) : plane(lo);
+}
+
+double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
+  return plane_at(uz_, x_m, y_m, z_m);
+}
+
+Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, double z_m) const {
+  // One pitch each side: the bilinear field's own slope jumps at every grid line.
+  const double hx = dx_m_, hy = dy_m_;
+  return {(plane_at(p_, x_m + hx, y_m, z_m) - plane_at(p_, x_m - hx, y_m, z_m)) / (2.0 * hx),
+          (plane_at(p_, x_m, y_m + hy, z_m) - plane_at(p_, x_m, y_m - hy, z_m)) / (2.0 * hy)};
 }
 
 CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry)
@@ -319,6 +343,8 @@ CfdOrientedField CfdField::at(const NozzleOrientation& o) const {
   f.cos_pan_ = std::cos(o.pan_rad);
   f.sin_pan_ = std::sin(o.pan_rad);
   f.s_W_ = b.s_x * Eigen::Vector2d(f.cos_pan_, f.sin_pan_);
+  f.pressure_radius_m_ =
+      std::max(cases_[b.lo].pressure_radius_m(), cases_[b.hi].pressure_radius_m());
   return f;
 }
 
@@ -356,6 +382,17 @@ double CfdOrientedField::vertical_at(const Eigen::Vector2d& p_W, double z_m) con
   const double lo = field_->cases_[lo_].vertical_at(x + shift_lo_, y, z_m);
   if (!(w_ > 0.0)) return lo;
   return (1.0 - w_) * lo + w_ * field_->cases_[hi_].vertical_at(x + shift_hi_, y, z_m);
+}
+
+Eigen::Vector2d CfdOrientedField::pressure_gradient_at(const Eigen::Vector2d& p_W,
+                                                       double z_m) const {
+  const double c = cos_pan_, s = sin_pan_;
+  const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
+  Eigen::Vector2d g = field_->cases_[lo_].pressure_gradient_at(x + shift_lo_, y, z_m);
+  if (w_ > 0.0) {
+    g = (1.0 - w_) * g + w_ * field_->cases_[hi_].pressure_gradient_at(x + shift_hi_, y, z_m);
+  }
+  return {c * g.x() - s * g.y(), s * g.x() + c * g.y()};
 }
 
 }  // namespace airtwin

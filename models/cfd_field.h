@@ -55,6 +55,13 @@ class CfdCase {
   /// The vertical mean velocity there (m/s, up positive; the same interpolation; 0 outside the
   /// grid). What an omnidirectional anemometer sees besides the horizontal air, large near s.
   double vertical_at(double x_m, double y_m, double z_m) const;
+  /// The horizontal gradient of the kinematic pressure p / rho there (m/s^2, case frame): central
+  /// differences one grid pitch wide of the bilinear field (mirrored for y < 0), linear between
+  /// heights; 0 outside the grid. -rho V grad(p / rho) is the pressure push on a body of volume V.
+  Eigen::Vector2d pressure_gradient_at(double x_m, double y_m, double z_m) const;
+  /// How far from s the kinematic pressure stays above 1 % of its largest value at the lowest
+  /// height (m): beyond it the pressure push is negligible and is not evaluated.
+  double pressure_radius_m() const { return pressure_radius_m_; }
 
  private:
   friend class CfdOrientedField;
@@ -80,6 +87,10 @@ class CfdCase {
   using Node = std::array<float, 4>;  // ux, uy, k, epsilon
   std::vector<Node> nodes_;           // [height][iy][ix]
   std::vector<float> uz_;             // [height][iy][ix]
+  std::vector<float> p_;              // kinematic pressure, [height][iy][ix]
+  double pressure_radius_m_ = 0.0;
+  // Bilinear value of `plane` ([height][iy][ix]) at (x, |y|) and height z; 0 outside the grid.
+  double plane_at(const std::vector<float>& plane, double x_m, double y_m, double z_m) const;
 };
 
 class CfdField;
@@ -95,9 +106,16 @@ class CfdOrientedField {
   CfdSample at(const Eigen::Vector2d& p_W, double z_m) const;
   /// The vertical mean velocity at p_W and z_m (m/s, up positive; CfdCase::vertical_at).
   double vertical_at(const Eigen::Vector2d& p_W, double z_m) const;
+  /// The horizontal gradient of the kinematic pressure at p_W and z_m (m/s^2, world frame;
+  /// CfdCase::pressure_gradient_at), mixed between the bracket's cases as the velocity is.
+  Eigen::Vector2d pressure_gradient_at(const Eigen::Vector2d& p_W, double z_m) const;
+  /// Beyond this distance from s (m) the pressure gradient is negligible (the larger of the
+  /// bracket's CfdCase::pressure_radius_m).
+  double pressure_radius_m() const { return pressure_radius_m_; }
 
  private:
   friend class CfdField;
+  double pressure_radius_m_ = 0.0;
   const CfdField* field_ = nullptr;
   NozzleOrientation orientation_{0.0, 0.0};
   size_t lo_ = 0, hi_ = 0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "common/errors.h"
+#include "common/text.h"
 
 namespace airtwin {
 
@@ -100,20 +101,12 @@ size_t effect_parameter_index(const EffectSpec& spec, const std::string& key) {
                    "'; its parameters: " + keys);
 }
 
-namespace {
-std::string number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", x);
-  return buffer;
-}
-}  // namespace
-
 std::string effect_range_text(const EffectParameter& p) {
   // Appended piece by piece: GCC 12 -O3 reports a false -Wrestrict on "x" + std::string.
   std::string text = "[";
-  text += number(p.min);
+  text += format_number(p.min);
   text += ", ";
-  text += number(p.max);
+  text += format_number(p.max);
   text += ']';
   if (p.unit[0] != '\0') {
     text += ' ';
@@ -125,7 +118,7 @@ std::string effect_range_text(const EffectParameter& p) {
 void check_effect_value(const EffectSpec& spec, const EffectParameter& p, double value) {
   if (!(std::isfinite(value) && value >= p.min && value <= p.max)) {
     throw InputError(std::string(spec.name) + "." + p.key + " must be a finite number in " +
-                     effect_range_text(p) + ", got " + number(value));
+                     effect_range_text(p) + ", got " + format_number(value));
   }
 }
 

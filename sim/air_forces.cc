@@ -123,6 +123,8 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   v_body_W_.setZero(2, n);
   u_body_W_.setZero(2, n);
   f_body_W_.setZero(2, n);
+  grad_p_body_W_.setZero(2, n);
+  air_density_ = scene.air_density_kgpm3;
   z_body_.setZero(n);
   k_body_.setZero(n);
   epsilon_body_.setZero(n);
@@ -269,11 +271,18 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     }
   }
   if (air && cfd_ != nullptr) {
+    const double reach2 = cfd_->pressure_radius_m() * cfd_->pressure_radius_m();
     for (Eigen::Index col = 0; col < p_body_W_.cols(); ++col) {
       const CfdSample a = cfd_->at(p_body_W_.col(col), z_body_[col]);
       u_body_W_.col(col) = a.u_W;
       k_body_[col] = a.k;
       epsilon_body_[col] = a.epsilon;
+      // The pressure only matters near s; farther out it is not looked up.
+      if ((p_body_W_.col(col) - s_W).squaredNorm() < reach2) {
+        grad_p_body_W_.col(col) = cfd_->pressure_gradient_at(p_body_W_.col(col), z_body_[col]);
+      } else {
+        grad_p_body_W_.col(col).setZero();
+      }
     }
   } else if (air) {
     field_->velocities(p_body_W_, u_body_W_);
@@ -338,7 +347,12 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       }
       const Eigen::Vector2d from_s = p - s_W;
       const double r2 = from_s.squaredNorm();
-      if (push > 0.0 && r2 > 0.0) {
+      if (cfd_ != nullptr) {
+        // The CFD's own pressure: -V grad p, p = rho (p / rho) of the CFD, times (J f)^2.
+        if (params_.stagnation_pressure_pa > 0.0) {
+          f -= w * po.pressure_volume * air_density_ * scale * scale * grad_p_body_W_.col(col);
+        }
+      } else if (push > 0.0 && r2 > 0.0) {
         // -dp/dr along the unit radial direction: 2 r / b^2 p exp(-r^2/b^2) * (from_s / r).
         f += w * po.pressure_volume * push * (2.0 / b2) * std::exp(-r2 / b2) * from_s;
       }

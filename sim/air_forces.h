@@ -36,7 +36,11 @@
 // (isotropic), correlation time T_L = C_L k / epsilon with C_L = 0.15, the Lagrangian time scale
 // of random-walk particle dispersion in k-epsilon flows (ANSYS Fluent Theory Guide, "Stochastic
 // Tracking"). Each object's OU process then decays with its own T_L, taken where it last was.
-// k and epsilon are those of the full jet; sigma is scaled by J f like the mean air.
+// k and epsilon are those of the full jet; sigma is scaled by J f like the mean air. The pressure
+// push is the CFD's too: F_PG = -w_b V_o rho J^2 f^2 grad(p / rho) with the CFD's kinematic
+// pressure at the body (its height included; the stagnation pressure there is ~17 Pa, half of it
+// ~10 cm from s at tilt 0), instead of the Gaussian above (p_s and b describe the analytical
+// air's push only; p_s = 0 switches either push off).
 //
 // Physical drag (ObjectTypeParameters::drag_law = kPhysical, sim/scene_spec.h) replaces the drag
 // above on every body: F_D = w_b (1/2 rho C_D A |u_rel| + 12 rho A nu / L) u_rel, u_rel = u(p) - v,
@@ -90,8 +94,9 @@ struct AirForceParameters {
   double turbulence_length_m = 0.15;            ///< L_t (m): where near turns into far
   double turbulence_reference_speed_mps = 3.4;  ///< U_ref (m/s)
   double turbulence_time_s = 0.05;              ///< correlation time (s) of eta
-  double stagnation_pressure_pa = 11.0;         ///< p_s (Pa); 0 switches the push off
-  double pressure_radius_m = 0.06;              ///< b (m)
+  /// p_s (Pa) of the analytical air's push; 0 switches the push off (the CFD's too)
+  double stagnation_pressure_pa = 11.0;
+  double pressure_radius_m = 0.06;  ///< b (m)
   /// C_L: the turbulence's correlation time under the CFD's air is C_L k / epsilon.
   double lagrangian_time_factor = 0.15;
 
@@ -174,7 +179,9 @@ class AirForces {
   std::vector<size_t> first_body_;
   const mjModel* bound_model_ = nullptr;
   std::vector<BodyDofs> dofs_;
+  double air_density_ = 0.0;  // rho (kg/m^3): the CFD's kinematic pressure times it is Pa
   Eigen::Matrix2Xd p_body_W_, v_body_W_, u_body_W_, f_body_W_;  // scratch, sized once
+  Eigen::Matrix2Xd grad_p_body_W_;  // the CFD's kinematic pressure gradient (m/s^2)
   Eigen::VectorXd z_body_, k_body_, epsilon_body_;
   std::string fault_;
 };

@@ -7,16 +7,11 @@
 #include <set>
 
 #include "common/errors.h"
+#include "common/text.h"
 #include "common/units.h"
 
 namespace airtwin {
 namespace {
-
-std::string number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", x);
-  return buffer;
-}
 
 // Runs `f`, prefixing any InputError's message with `where`.
 template <typename F>
@@ -48,13 +43,6 @@ std::vector<double> resolve(const Effect& effect) {
   return values;
 }
 
-std::string trim(const std::string& s) {
-  const size_t begin = s.find_first_not_of(" \t");
-  if (begin == std::string::npos) return "";
-  const size_t end = s.find_last_not_of(" \t");
-  return s.substr(begin, end - begin + 1);
-}
-
 std::string keys_of(const EffectSpec& spec) {
   std::string keys;
   for (const EffectParameter& p : spec.params)
@@ -68,7 +56,7 @@ Effect parse_effect(const std::string& text) {
   const std::string where = "effect '" + text + "'";
   Effect effect;
   const size_t colon = text.find(':');
-  effect.name = trim(text.substr(0, colon));
+  effect.name = trim_blanks(text.substr(0, colon));
   if (effect.name.empty()) {
     throw InputError(where +
                      ": expected NAME or NAME:key=value,...; valid effects: " + effect_names());
@@ -82,14 +70,14 @@ Effect parse_effect(const std::string& text) {
     std::set<std::string> seen;
     while (true) {
       const size_t comma = list.find(',', start);
-      const std::string item = trim(list.substr(start, comma - start));
+      const std::string item = trim_blanks(list.substr(start, comma - start));
       const size_t equals = item.find('=');
       if (equals == std::string::npos) {
         throw InputError(where + ": expected key=value after '" + effect.name + ":', got '" + item +
                          "'; parameters of " + effect.name + ": " + keys_of(spec));
       }
-      const std::string key = trim(item.substr(0, equals));
-      const std::string value_text = trim(item.substr(equals + 1));
+      const std::string key = trim_blanks(item.substr(0, equals));
+      const std::string value_text = trim_blanks(item.substr(equals + 1));
       const size_t i = located(where, [&] { return effect_parameter_index(spec, key); });
       const EffectParameter& p = spec.params[i];
       if (!seen.insert(key).second) {
@@ -127,7 +115,7 @@ std::string effect_to_string(const Effect& effect) {
     out += i == 0 ? ':' : ',';
     out += spec.params[i].key;
     out += '=';
-    out += number(values[i]);
+    out += format_number(values[i]);
   }
   return out;
 }
@@ -191,7 +179,7 @@ std::string effect_help() {
       if (i > 0) line += ", ";
       line += p.key;
       line += '=';
-      line += number(p.example);
+      line += format_number(p.example);
       line += ' ';
       line += effect_range_text(p);
     }

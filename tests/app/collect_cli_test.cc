@@ -54,6 +54,11 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   const auto phys = run_airtwin(quick + "--air cfd --drag physical --out " + d + "/phys.csv");
   ASSERT_EQ(phys.exit_code, 0) << phys.err;
   EXPECT_NE(read_text_file(d + "/cfd.csv"), read_text_file(d + "/phys.csv"));
+  // Its physical parameters set from the command line change the trajectories too.
+  const auto heavy = run_airtwin(quick + "--air cfd --drag physical --object-physics " +
+                                 "tracer:mass_g=0.176,mu_k=0.5 --out " + d + "/heavy.csv");
+  ASSERT_EQ(heavy.exit_code, 0) << heavy.err;
+  EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/heavy.csv"));
 }
 
 TEST(CollectCli, BadFlagsAreOneClearLine) {
@@ -70,6 +75,11 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --cfd data --out x.csv", "--cfd needs --air cfd");
   expect_usage_error("collect --drag glue --out x.csv", "--drag: expected eq8 or physical");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
+  expect_usage_error("collect --object-physics tracer:mu_k=0.4 --out x.csv",
+                     "--object-physics: object physics 'tracer:mu_k=0.4': tracer.mu_k belongs to "
+                     "the physical drag law");
+  expect_usage_error("collect --drag physical --object-physics tracer:cd=9 --out x.csv",
+                     "tracer.cd must be a number in [0.05, 3], got '9'");
   // A folder without CFD cases: an input error naming it.
   const auto r = run_airtwin("collect --air cfd --cfd " + scratch_dir("no_cfd") + " --out x.csv");
   EXPECT_EQ(r.exit_code, 1) << r.err;

@@ -344,14 +344,29 @@ TEST(AirForces, TurbulenceIsAUnitVarianceProcessFromTheSeed) {
 // The same free body 1 cm above the floor, between two of the synthetic CFD cases' heights.
 const std::string kLow = floating_xml(0.01);
 
-// A CFD case whose air is linear in x, y and z (so the interpolation reproduces it exactly) and
-// whose turbulence is uniform: k and epsilon given.
+// The synthetic case's kinematic pressure (m^2/s^2), linear in x and y: its gradient is
+// (3, 2) on the y >= 0 side.
+double linear_cfd_pressure(double x, double y) { return 4.0 + 3.0 * x + 2.0 * y; }
+
+// A CFD case whose air and pressure are linear in x, y and z (so the interpolation reproduces
+// them exactly) and whose turbulence is uniform: k and epsilon given.
 CfdField linear_cfd(const std::string& dir, double k, double epsilon) {
   testing::write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.1, [=](double x, double y, double z) {
-    return std::array<double, 6>{
-        0.5 + 2.0 * x - y + 40.0 * z, 1.0 + x + 3.0 * y, 0.0, k, epsilon, 0.0};
+    return std::array<double, 6>{0.5 + 2.0 * x - y + 40.0 * z, 1.0 + x + 3.0 * y, 0.0, k, epsilon,
+                                 linear_cfd_pressure(x, y)};
   });
   return CfdField::read_dir(dir);
+}
+
+// The pressure gradient the twin should see at a world point under pan theta: central differences
+// one pitch (0.1 m) wide of the mirrored formula in the case frame, turned to the world frame.
+Eigen::Vector2d linear_cfd_pressure_gradient(const Eigen::Vector2d& p_W, double pan) {
+  const double c = std::cos(pan), s = std::sin(pan), h = 0.1;
+  const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
+  const auto p = [](double xx, double yy) { return linear_cfd_pressure(xx, std::abs(yy)); };
+  const Eigen::Vector2d g((p(x + h, y) - p(x - h, y)) / (2 * h),
+                          (p(x, y + h) - p(x, y - h)) / (2 * h));
+  return {c * g.x() - s * g.y(), s * g.x() + c * g.y()};
 }
 
 // The case's air at a world point under pan theta, from its formula: into the case frame, the
@@ -365,7 +380,7 @@ Eigen::Vector2d linear_cfd_air(const Eigen::Vector2d& p_W, double z, double pan)
   return {c * u.x() - s * u.y(), s * u.x() + c * u.y()};
 }
 
-TEST(AirForces, InCfdAirTheDragTakesTheCfdVelocityAtTheBodysHeight) {
+TEST(AirForces, InCfdAirTheDragAndPushTakeTheCfdsAirAtTheBodysHeight) {
   Floating f(kLow);
   const SceneParameters scene;
   const CfdField cfd = linear_cfd(testing::fresh_scratch_dir("cfd_mean"), 0.0, 1.0);
@@ -378,11 +393,10 @@ TEST(AirForces, InCfdAirTheDragTakesTheCfdVelocityAtTheBodysHeight) {
     const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
     const ObjectTypeParameters& t = scene.tracer;
     const Eigen::Vector2d u = linear_cfd_air(p, 0.01, pan);
-    // The pressure push (on by default) is radial from s; take it out with its own law.
-    const Eigen::Vector2d from_s = p - field.stagnation_point();
-    const double b2 = 0.06 * 0.06;
-    const Eigen::Vector2d push = t.pressure_volume_m3 * 0.49 * 11.0 * (2.0 / b2) *
-                                 std::exp(-from_s.squaredNorm() / b2) * from_s / f.object.mass_kg;
+    // The pressure push is the CFD's: -V rho J^2 grad(p / rho).
+    const Eigen::Vector2d push = -t.pressure_volume_m3 * scene.air_density_kgpm3 * 0.49 *
+                                 linear_cfd_pressure_gradient(p, pan) / f.object.mass_kg;
+    EXPECT_GT(push.norm(), 0.01 * (t.drag_rate_per_s * (t.air_gain * 0.7 * u - v)).norm());
     const Eigen::Vector2d expected = t.drag_rate_per_s * (t.air_gain * 0.7 * u - v) + push;
     EXPECT_LT((planar_acceleration(f.data.get()) - expected).norm(), 1e-5 * expected.norm())
         << "pan " << pan;
