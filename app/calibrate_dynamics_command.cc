@@ -8,12 +8,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "common/csv.h"
 #include "common/errors.h"
+#include "common/text.h"
 #include "common/units.h"
+#include "models/field_model_file.h"
+#include "sim/drag_calibration.h"
 #include "sim/dynamics_calibration.h"
 
 namespace airtwin::cli {
@@ -23,12 +27,137 @@ struct CalibrateArgs {
   std::string tilts = "0,22.5";
   std::string target;  // "xi1,xi2,xi3"; default: the paper's for the object
   std::string out;
+  std::string table;                // the controller's field model identification uses
+  std::vector<std::string> search;  // --search KEY=MIN:MAX:N (physical drag)
+  int refinements = 1;
   AirFlags air;
   DynamicsCalibrationOptions options;
 };
 
 nlohmann::ordered_json triple(const ObjectDynamics& d) {
   return {{"xi1", d.xi1}, {"xi2", d.xi2}, {"xi3", d.xi3}};
+}
+
+// The windows searched by default (docs/twin.md, "Calibration of physical drag"): C_D from a
+// hemisphere's 0.34 in free stream to a bluff body's ~1.2 in the floor's shear layer, kinetic
+// friction of foam or fibre on a smooth hard floor, the static excess of such pairs.
+std::vector<DragCalibrationAxis> default_axes() {
+  return {{ObjectPhysicsKey::kDragCoefficient, 0.3, 1.2, 4},
+          {ObjectPhysicsKey::kKineticFriction, 0.2, 0.6, 5},
+          {ObjectPhysicsKey::kStaticRatio, 1.0, 1.4, 2}};
+}
+
+// "KEY=MIN:MAX:N" or "KEY=VALUE" (fixed).
+DragCalibrationAxis parse_axis(const std::string& text) {
+  const std::string bad =
+      "--search: expected KEY=MIN:MAX:N or KEY=VALUE with KEY one of the object-physics keys, "
+      "got '" +
+      text + "'";
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos) throw UsageError(bad);
+  const std::string key = text.substr(0, eq);
+  DragCalibrationAxis a;
+  bool found = false;
+  for (const ObjectPhysicsSpec& s : object_physics_catalogue()) {
+    if (key == s.key) {
+      a.key = s.id;
+      found = true;
+    }
+  }
+  if (!found) throw UsageError(bad);
+  std::vector<std::string> parts;
+  std::stringstream ss(text.substr(eq + 1));
+  for (std::string item; std::getline(ss, item, ':');) parts.push_back(item);
+  if (parts.size() == 1) {
+    const auto v = parse_finite_double(parts[0]);
+    if (!v) throw UsageError(bad);
+    a.min = a.max = *v;
+    a.points = 1;
+    return a;
+  }
+  if (parts.size() != 3) throw UsageError(bad);
+  const auto lo = parse_finite_double(parts[0]), hi = parse_finite_double(parts[1]);
+  const auto n = parse_finite_double(parts[2]);
+  if (!lo || !hi || !n || *n != std::floor(*n)) throw UsageError(bad);
+  a.min = *lo;
+  a.max = *hi;
+  a.points = static_cast<int>(*n);
+  return a;
+}
+
+void run_calibrate_physical(CalibrateArgs a) {
+  DragCalibrationOptions o;
+  o.collection = a.options.collection;
+  o.identification = a.options.identification;
+  o.target = a.options.target;
+  o.refinements = a.refinements;
+  if (a.search.empty()) {
+    o.axes = default_axes();
+  } else {
+    for (const std::string& t : a.search) o.axes.push_back(parse_axis(t));
+  }
+  with_flags({{"calibration.object", "--object"},
+              {"calibration.axes", "--search"},
+              {"calibration.refinements", "--refinements"},
+              {"calibration target", "--target"}},
+             [&] { o.validate(); });
+  const AirFieldModel field =
+      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+  std::vector<std::string> keys;
+  for (const DragCalibrationAxis& ax : o.axes) {
+    keys.push_back(object_physics_catalogue()[static_cast<size_t>(ax.key)].key);
+  }
+  const auto row = [&](const DragCalibrationPoint& p) {
+    std::string values;
+    for (size_t i = 0; i < keys.size(); ++i) {
+      values += (i ? "," : "") + keys[i] + "=" + format_number(p.values[i]);
+    }
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "%-40s (%7.3f, %6.3f, %7.3f)  worst %5.1f%%  R^2 %.3f  MAPE %5.1f%%  full "
+                  "library: %s",
+                  values.c_str(), p.eq8_form.xi1, p.eq8_form.xi2, p.eq8_form.xi3,
+                  100 * p.worst_relative_error, p.r2, p.end_position_mape_pct,
+                  p.full_library_terms.c_str());
+    return std::string(line);
+  };
+  const auto progress = [&](const DragCalibrationPoint& p, size_t i) {
+    std::fprintf(stderr, "calibrate-dynamics: point %zu: %s\n", i + 1, row(p).c_str());
+  };
+  const DragCalibration c = calibrate_drag(o, field, progress);
+
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  for (const DragCalibrationPoint& p : c.points) {
+    nlohmann::ordered_json values = nlohmann::ordered_json::object();
+    for (size_t i = 0; i < keys.size(); ++i) values[keys[i]] = p.values[i];
+    nlohmann::ordered_json by_tilt = nlohmann::ordered_json::object();
+    for (const auto& [tilt, mape] : p.mape_by_tilt_pct) by_tilt[format_number(tilt)] = mape;
+    points.push_back({{"values", values},
+                      {"identified_eq8_form", triple(p.eq8_form)},
+                      {"r2", p.r2},
+                      {"end_position_mape", p.end_position_mape_pct},
+                      {"end_position_mape_by_tilt", by_tilt},
+                      {"worst_relative_error", p.worst_relative_error},
+                      {"full_library_terms", p.full_library_terms}});
+  }
+  const DragCalibrationPoint& best = c.points[c.best];
+  std::string physics = o.collection.object + ":";
+  for (size_t i = 0; i < keys.size(); ++i) {
+    physics += (i ? "," : "") + keys[i] + "=" + format_number(best.values[i]);
+  }
+  const nlohmann::ordered_json j = {{"object", o.collection.object},
+                                    {"air", air_identity(a.air)},
+                                    {"drag", "physical"},
+                                    {"table", a.table.empty() ? "built-in" : a.table},
+                                    {"target", triple(o.target)},
+                                    {"best", c.best},
+                                    {"best_object_physics", physics},
+                                    {"per_tilt", o.collection.per_tilt},
+                                    {"seed", o.collection.seed},
+                                    {"points", points}};
+  write_text_file(a.out, j.dump(2) + "\n");
+  std::printf("best of %zu points: %s\n  --object-physics %s\nwritten to %s\n", c.points.size(),
+              row(best).c_str(), physics.c_str(), a.out.c_str());
 }
 
 void run_calibrate(CalibrateArgs a) {
@@ -56,6 +185,14 @@ void run_calibrate(CalibrateArgs a) {
   require_range(o.iterations, 1, 20, "--iterations", "a count in [1, 20]");
   apply_air_flags(a.air, &o.collection.twin);
   ensure_parent_dir(a.out);
+  if (a.air.drag == "physical") {
+    run_calibrate_physical(a);
+    return;
+  }
+  if (!a.search.empty() || !a.table.empty()) {
+    throw UsageError(std::string(a.search.empty() ? "--table" : "--search") +
+                     " needs --drag physical");
+  }
 
   const AirFieldModel field = AirFieldModel::with_default_table();
   const auto progress = [&](const DynamicsCalibrationStep& s, int round, int rounds) {
@@ -124,7 +261,9 @@ void add_calibrate_dynamics_command(CLI::App& app) {
       "Tune the twin's drag rate, air gain and kinetic friction for one object type until\n"
       "'identify' on 'collect'ed data (Appendix D protocol) returns the target eq. (8)\n"
       "coefficients (default: the paper's). Fixed-point iteration, one collection per round.\n"
-      "Prints the rounds and writes a JSON record. docs/twin.md.");
+      "With --drag physical: a grid search of the type's physical parameters (--search) for\n"
+      "the point whose identification comes closest to the target. Prints each round or\n"
+      "point and writes a JSON record. docs/twin.md.");
   DynamicsCalibrationOptions& o = args->options;
   sub->add_option("--object", o.collection.object, "tracer | cotton")->capture_default_str();
   sub->add_option("--target", args->target, "xi1,xi2,xi3 to reach (default: the paper's)");
@@ -142,6 +281,16 @@ void add_calibrate_dynamics_command(CLI::App& app) {
                   "Identification: seconds after the re-aim not used (see 'identify --help')")
       ->capture_default_str();
   add_air_flags(sub, args->air);
+  sub->add_option("--search", args->search,
+                  "With --drag physical: a searched parameter, KEY=MIN:MAX:N (N grid points) or\n"
+                  "KEY=VALUE (held), KEY an --object-physics key (repeatable; default\n"
+                  "cd=0.3:1.2:4, mu_k=0.2:0.6:5, mu_s_ratio=1:1.4:2)");
+  sub->add_option("--refinements", args->refinements,
+                  "With --drag physical: grids around the best point, each at half the spacing")
+      ->capture_default_str();
+  sub->add_option("--table", args->table,
+                  "With --drag physical: the controller's field model identification uses\n"
+                  "(coefficient table CSV or field-model JSON; default: the built-in table)");
   sub->add_option("--out", args->out, "Output JSON record")->required();
   sub->callback([args] { run_calibrate(*args); });
 }

@@ -87,6 +87,14 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   EXPECT_NE(r.err.find("no CFD case"), std::string::npos) << r.err;
   expect_usage_error("calibrate-dynamics --iterations 0 --out x.json", "--iterations");
   expect_usage_error("calibrate-dynamics --target 1,2 --out x.json", "--target");
+  expect_usage_error("calibrate-dynamics --search cd=0.3:1:3 --out x.json",
+                     "--search needs --drag physical");
+  expect_usage_error("calibrate-dynamics --drag physical --search cd=0.3:1 --out x.json",
+                     "--search: expected KEY=MIN:MAX:N or KEY=VALUE");
+  expect_usage_error("calibrate-dynamics --drag physical --search cd=0.01:1:3 --out x.json",
+                     "--search: axis 1 (cd): window [0.01, 1] is not inside [0.05, 3]");
+  expect_usage_error("calibrate-dynamics --drag physical --search cd=0.3:1:3,5 --out x.json",
+                     "--search: expected");
 }
 
 }  // namespace

@@ -1,0 +1,100 @@
+// The search of physical drag parameters: its options' errors, the grid and its refinement, the
+// best point being the closest, reruns giving the same numbers, and the identified drag growing
+// with C_D as the physics says. Small collections in the model's air keep it fast; the campaign
+// in the CFD's air is recorded in docs/twin.md.
+
+#include "sim/drag_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/errors.h"
+#include "models/object_dynamics.h"
+
+namespace airtwin {
+namespace {
+
+DragCalibrationOptions small_options() {
+  DragCalibrationOptions o;
+  o.collection.per_tilt = 10;
+  o.collection.seed = 5;
+  o.collection.twin.scene.tracer.use_physical_drag();
+  o.target = kTracerDynamics;
+  o.axes = {{ObjectPhysicsKey::kDragCoefficient, 0.4, 1.2, 2},
+            {ObjectPhysicsKey::kKineticFriction, 0.3, 0.3, 1}};
+  o.refinements = 1;
+  return o;
+}
+
+std::string field_of(const DragCalibrationOptions& o) {
+  try {
+    o.validate();
+  } catch (const FieldError& e) {
+    return e.field() + ": " + e.detail();
+  }
+  return "valid";
+}
+
+TEST(DragCalibration, BadOptionsNameTheirField) {
+  EXPECT_EQ(field_of(small_options()), "valid");
+  DragCalibrationOptions o = small_options();
+  o.collection.twin.scene.tracer = ObjectTypeParameters::tracer();  // eq. (8) law
+  EXPECT_EQ(field_of(o).rfind("calibration.object: ", 0), 0u) << field_of(o);
+  o = small_options();
+  o.axes[0].max = 4.0;  // beyond C_D's range [0.05, 3]
+  EXPECT_EQ(field_of(o), "calibration.axes: axis 1 (cd): window [0.4, 4] is not inside [0.05, 3]");
+  o = small_options();
+  o.axes[0].points = 1;  // a window needs two points or more
+  EXPECT_NE(field_of(o).find("axis 1 (cd): expected 2 to 9 points"), std::string::npos)
+      << field_of(o);
+  o = small_options();
+  o.axes[1].key = ObjectPhysicsKey::kDragCoefficient;
+  EXPECT_NE(field_of(o).find("given twice"), std::string::npos) << field_of(o);
+  o = small_options();
+  o.axes.clear();
+  EXPECT_EQ(field_of(o).rfind("calibration.axes: ", 0), 0u);
+  o = small_options();
+  o.refinements = 9;
+  EXPECT_EQ(field_of(o).rfind("calibration.refinements", 0), 0u);
+}
+
+TEST(DragCalibration, GridThenRefinementAndTheBestIsTheClosest) {
+  const DragCalibrationOptions o = small_options();
+  const AirFieldModel field = AirFieldModel::with_default_table();
+  size_t reported = 0;
+  const DragCalibration c =
+      calibrate_drag(o, field, [&](const DragCalibrationPoint&, size_t i) { reported = i + 1; });
+  // Two C_D points, then a grid of half the spacing around the best: one new point beside it.
+  ASSERT_EQ(c.points.size(), 3u);
+  EXPECT_EQ(reported, 3u);
+  EXPECT_EQ(c.points[0].values, (std::vector<double>{0.4, 0.3}));
+  EXPECT_EQ(c.points[1].values, (std::vector<double>{1.2, 0.3}));
+  // The refined grid spans half the spacing (0.4) from the better of the two, inside the window.
+  const bool low_better = c.points[0].worst_relative_error <= c.points[1].worst_relative_error;
+  EXPECT_NEAR(c.points[2].values[0], low_better ? 0.6 : 1.0, 1e-12);
+  for (const DragCalibrationPoint& p : c.points) {
+    EXPECT_GE(p.worst_relative_error, c.points[c.best].worst_relative_error);
+    EXPECT_FALSE(p.full_library_terms.empty());
+    EXPECT_EQ(p.full_library_is_eq8, p.full_library_terms == "1,v,vair");
+  }
+  // The point again: the same collection and identification, the same numbers.
+  const DragCalibrationPoint again = evaluate_drag_point(o, c.points[1].values, field);
+  EXPECT_EQ(again.eq8_form.xi1, c.points[1].eq8_form.xi1);
+  EXPECT_EQ(again.eq8_form.xi3, c.points[1].eq8_form.xi3);
+  EXPECT_EQ(again.full_library_terms, c.points[1].full_library_terms);
+  // Three times the drag coefficient: a stronger speed damping is identified.
+  EXPECT_LT(c.points[1].eq8_form.xi1, c.points[0].eq8_form.xi1);
+  // The distance is the worst of the three relative errors.
+  const ObjectDynamics& e = c.points[1].eq8_form;
+  const double worst =
+      std::max({std::abs(e.xi1 / o.target.xi1 - 1), std::abs(e.xi2 / o.target.xi2 - 1),
+                std::abs(e.xi3 / o.target.xi3 - 1)});
+  EXPECT_DOUBLE_EQ(c.points[1].worst_relative_error, worst);
+}
+
+}  // namespace
+}  // namespace airtwin
