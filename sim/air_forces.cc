@@ -99,6 +99,8 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     p.viscous = p.physical ? 12.0 * scene.air_density_kgpm3 * t.frontal_area_m2 *
                                  scene.air_viscosity_m2ps / t.drag_length_m
                            : 0.0;
+    const double r = 0.5 * t.diameter_m;
+    p.lift = p.physical ? 0.5 * scene.air_density_kgpm3 * t.lift_coefficient * kPi * r * r : 0.0;
     p.drag_coefficient = obj.mass_kg * t.drag_rate_per_s;
     p.air_gain = t.air_gain;
     p.pressure_volume = t.pressure_volume_m3;
@@ -128,6 +130,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   z_body_.setZero(n);
   k_body_.setZero(n);
   epsilon_body_.setZero(n);
+  lift_body_.setZero(n);
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
 }
@@ -177,16 +180,17 @@ void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
       for (size_t k = 0; k < obj.bodies.size(); ++k) {
         const int b = obj.bodies[k];
         const Eigen::Index col = static_cast<Eigen::Index>(first_body_[o] + k);
-        const double fx = f_body_W_(0, col), fy = f_body_W_(1, col);
+        const double fx = f_body_W_(0, col), fy = f_body_W_(1, col), fz = lift_body_[col];
         if (reference) {
           // Slow reference: MuJoCo's own Jacobian transpose at the body origin.
-          const mjtNum force[3] = {fx, fy, 0.0};
+          const mjtNum force[3] = {fx, fy, fz};
           const mjtNum torque[3] = {0.0, 0.0, 0.0};
           mj_applyFT(m, d, force, torque, d->xpos + 3 * b, b, d->qfrc_passive);
         } else if (dofs_[col].free_dof >= 0) {
           // At a free joint's anchor: the force acts on its translational dofs alone.
           d->qfrc_passive[dofs_[col].free_dof] += fx;
           d->qfrc_passive[dofs_[col].free_dof + 1] += fy;
+          d->qfrc_passive[dofs_[col].free_dof + 2] += fz;
         } else {
           // J^T F over the chain: column j of the point Jacobian is
           // cdof_lin_j + cdof_ang_j x (p - subtree_com(root)), as mj_jac builds it.
@@ -197,7 +201,8 @@ void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
             const mjtNum* c = d->cdof + 6 * j;
             const double jx = c[3] + (c[1] * oz - c[2] * oy);
             const double jy = c[4] + (c[2] * ox - c[0] * oz);
-            d->qfrc_passive[j] += jx * fx + jy * fy;
+            const double jz = c[5] + (c[0] * oy - c[1] * ox);
+            d->qfrc_passive[j] += jx * fx + jy * fy + jz * fz;
           }
         }
       }
@@ -322,6 +327,8 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
 
     // Drag and pressure pushes on each body, by its area share.
     Eigen::Vector2d total = Eigen::Vector2d::Zero();
+    double lift_total = 0.0;
+    for (Eigen::Index k = 0; k < n; ++k) lift_body_[first + k] = 0.0;
     for (Eigen::Index k = 0; k < n && !air; ++k) f_body_W_.col(first + k).setZero();
     for (Eigen::Index k = 0; k < n && air; ++k) {
       const Eigen::Index col = first + k;
@@ -337,6 +344,8 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
         // 1/2 rho C_D(Re) A |u_rel| u_rel, C_D(Re) = C_D + 24 / Re.
         const Eigen::Vector2d u_rel = u - v;
         f = w * (po.quadratic * u_rel.norm() + po.viscous) * u_rel;
+        lift_body_[col] = w * po.lift * u_rel.squaredNorm();
+        lift_total += lift_body_[col];
       } else {
         // eq. (8) as physics: F = c (k u - v).
         f = w * po.drag_coefficient * (po.air_gain * u - v);
@@ -369,8 +378,9 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     const double held_norm = held.norm();
     if (po.extra_static > 0.0 && held_norm > 0.0) {
       const double fade = std::exp(-v_obj.squaredNorm() / (po.stiction_speed * po.stiction_speed));
-      const Eigen::Vector2d hold =
-          -(std::min(held_norm, po.extra_static * g_normal) * fade / held_norm) * held;
+      // The lift unloads the contact: (mu_s - mu_k)(m g - L) at most.
+      const double most = po.extra_static * std::max(0.0, g_normal - lift_total / obj.mass_kg);
+      const Eigen::Vector2d hold = -(std::min(held_norm, most) * fade / held_norm) * held;
       for (Eigen::Index k = 0; k < n; ++k) f_body_W_.col(first + k) += obj.area_share[k] * hold;
     }
   }

@@ -45,7 +45,10 @@
 // Physical drag (ObjectTypeParameters::drag_law = kPhysical, sim/scene_spec.h) replaces the drag
 // above on every body: F_D = w_b (1/2 rho C_D A |u_rel| + 12 rho A nu / L) u_rel, u_rel = u(p) - v,
 // i.e. 1/2 rho C_D(Re) A |u_rel| u_rel with C_D(Re) = C_D + 24 / Re, Re = |u_rel| L / nu; no
-// parameter of it is an eq. (8) coefficient.
+// parameter of it is an eq. (8) coefficient. It adds a lift on each body, upward at the body
+// origin: L = w_b 1/2 rho C_L A_base |u_rel|^2 with A_base the footprint pi (diameter / 2)^2, which
+// unloads the contact, so MuJoCo's friction falls with it; the static holding force above is
+// (mu_s - mu_k)(m g - L) then.
 //
 // Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
@@ -147,6 +150,7 @@ class AirForces {
     bool physical;            // DragLaw::kPhysical
     double quadratic;         // 1/2 rho C_D A (kg/m)
     double viscous;           // 12 rho A nu / L (kg/s): the 24/Re part, linear in u - v
+    double lift;              // 1/2 rho C_L A_base (kg/m): lift = lift |u - v|^2, upward
     double drag_coefficient;  // c_o (kg/s)
     double air_gain;          // k_o
     double pressure_volume;   // V_o (m^3)
@@ -183,6 +187,7 @@ class AirForces {
   Eigen::Matrix2Xd p_body_W_, v_body_W_, u_body_W_, f_body_W_;  // scratch, sized once
   Eigen::Matrix2Xd grad_p_body_W_;  // the CFD's kinematic pressure gradient (m/s^2)
   Eigen::VectorXd z_body_, k_body_, epsilon_body_;
+  Eigen::VectorXd lift_body_;  // the upward lift on each body (N), physical drag only
   std::string fault_;
 };
 

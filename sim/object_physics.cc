@@ -13,7 +13,8 @@ namespace {
 
 // Ranges: wide physical bounds, not calibration windows (those are in docs/twin.md). Mass: light
 // objects a jet can move (0.01 g to 100 g); C_D: streamlined to a flat plate's ~2 with margin;
-// area: a grain to a palm; friction: PTFE-like 0.02 to rubber's ~2; static/kinetic 1 to 5.
+// area: a grain to a palm; friction: PTFE-like 0.02 to rubber's ~2; static/kinetic 1 to 5; lift:
+// none to beyond a hemisphere's potential-flow 0.69.
 const std::array<ObjectPhysicsSpec, kObjectPhysicsKeyCount> kCatalogue = {{
     {ObjectPhysicsKey::kMass, "mass_g", "g", 1e-3, 0.01, 100.0, false, "mass"},
     {ObjectPhysicsKey::kDragCoefficient, "cd", "", 1.0, 0.05, 3.0, true,
@@ -24,6 +25,8 @@ const std::array<ObjectPhysicsSpec, kObjectPhysicsKeyCount> kCatalogue = {{
      "kinetic (Coulomb) friction against the floor"},
     {ObjectPhysicsKey::kStaticRatio, "mu_s_ratio", "", 1.0, 1.0, 5.0, false,
      "static / kinetic friction"},
+    {ObjectPhysicsKey::kLiftCoefficient, "cl", "", 1.0, 0.0, 1.0, true,
+     "lift coefficient C_L on the footprint area"},
 }};
 
 std::string keys() {
@@ -65,6 +68,8 @@ double object_physics_value(const ObjectTypeParameters& p, ObjectPhysicsKey key)
       return p.physical_kinetic_friction;
     case ObjectPhysicsKey::kStaticRatio:
       return p.static_friction_ratio;
+    case ObjectPhysicsKey::kLiftCoefficient:
+      return p.lift_coefficient;
   }
   return 0.0;
 }
@@ -88,6 +93,9 @@ void set_object_physics_value(ObjectPhysicsKey key, double typed, ObjectTypePara
       break;
     case ObjectPhysicsKey::kStaticRatio:
       p->static_friction_ratio = si;
+      break;
+    case ObjectPhysicsKey::kLiftCoefficient:
+      p->lift_coefficient = si;
       break;
   }
 }

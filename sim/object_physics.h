@@ -9,6 +9,7 @@
 //   area_cm2     cm^2   frontal area A of the physical drag law    frontal_area_m2
 //   mu_k         -      kinetic friction with physical drag        physical_kinetic_friction
 //   mu_s_ratio   -      static / kinetic friction                  static_friction_ratio
+//   cl           -      lift coefficient on the footprint area     lift_coefficient
 //
 // These are what the calibration of physical drag tunes (docs/twin.md); eq. (8)'s coefficients
 // are not among them.
@@ -26,9 +27,10 @@ enum class ObjectPhysicsKey {
   kDragCoefficient,
   kFrontalArea,
   kKineticFriction,
-  kStaticRatio
+  kStaticRatio,
+  kLiftCoefficient
 };
-inline constexpr size_t kObjectPhysicsKeyCount = 5;
+inline constexpr size_t kObjectPhysicsKeyCount = 6;
 
 struct ObjectPhysicsSpec {
   ObjectPhysicsKey id;

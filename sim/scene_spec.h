@@ -59,7 +59,8 @@ enum class DragLaw {
   /// F = c (k u - v): eq. (8) read as physics (drag_rate_per_s, air_gain).
   kLinear,
   /// F = 1/2 rho C_D(Re) A |u - v| (u - v), C_D(Re) = drag_coefficient + 24 / Re, Re = |u - v| L /
-  /// nu: quadratic form drag with the viscous (Stokes) part that takes over at low Re.
+  /// nu: quadratic form drag with the viscous (Stokes) part that takes over at low Re; and a lift
+  /// 1/2 rho C_L A_base |u - v|^2 that unloads the contact (a body on a floor in shear flow).
   kPhysical,
 };
 
@@ -86,6 +87,8 @@ struct ObjectTypeParameters {
   double drag_length_m = 0.0;     ///< L of Re (m)
   /// mu_k with physical drag: a measured-kind value, not eq. (8)'s -xi3 / g.
   double physical_kinetic_friction = 0.0;
+  /// C_L of the physical law's lift, on the footprint area pi (diameter / 2)^2 (dimensionless).
+  double lift_coefficient = 0.0;
 
   /// Switches to DragLaw::kPhysical and its friction (physical_kinetic_friction).
   void use_physical_drag();

@@ -107,6 +107,12 @@ TEST(AirForces, PhysicalDragIsQuadraticWithAViscousPart) {
     std::printf("physical drag at |u_rel| %.3f m/s: Re %.0f, C_D(Re) %.3f, a %.3f m/s^2\n",
                 u_rel.norm(), re, cd, expected.norm());
     EXPECT_LT((planar_acceleration(f.data.get()) - expected).norm(), 1e-9 * expected.norm());
+    // The lift, upward: 1/2 rho C_L pi r^2 |u_rel|^2 on the footprint.
+    const double r = 0.5 * t.diameter_m;
+    const double lift = 0.5 * scene.air_density_kgpm3 * t.lift_coefficient * kPi * r * r *
+                        u_rel.squaredNorm() / f.object.mass_kg;
+    EXPECT_GT(lift, 0.0);
+    EXPECT_NEAR(f.data->qacc[2], lift, 1e-9 * lift);
   }
   // A bad parameter is one clear error naming the type.
   scene.tracer.frontal_area_m2 = 0.0;

@@ -21,16 +21,28 @@ SceneParameters physical_scene() {
   return scene;
 }
 
+TEST(ObjectPhysics, TheCatalogueIsIndexedByItsKeys) {
+  for (size_t i = 0; i < kObjectPhysicsKeyCount; ++i) {
+    const ObjectPhysicsSpec& s = object_physics_catalogue()[i];
+    EXPECT_EQ(static_cast<size_t>(s.id), i);
+    ASSERT_NE(s.key, nullptr) << i;
+    EXPECT_LT(s.min, s.max) << s.key;
+    EXPECT_GT(s.si_per_unit, 0.0) << s.key;
+  }
+}
+
 TEST(ObjectPhysics, TypedValuesSetTheirSiFields) {
   SceneParameters scene = physical_scene();
   const ObjectTypeParameters cotton_before = scene.cotton;
-  apply_object_physics("tracer:mass_g=0.15,cd=0.38,area_cm2=3.2,mu_k=0.5,mu_s_ratio=1.4", &scene);
+  apply_object_physics("tracer:mass_g=0.15,cd=0.38,area_cm2=3.2,mu_k=0.5,mu_s_ratio=1.4,cl=0.25",
+                       &scene);
   EXPECT_DOUBLE_EQ(scene.tracer.mass_kg, 0.15e-3);
   EXPECT_DOUBLE_EQ(scene.tracer.drag_coefficient, 0.38);
   EXPECT_DOUBLE_EQ(scene.tracer.frontal_area_m2, 3.2e-4);
   EXPECT_DOUBLE_EQ(scene.tracer.physical_kinetic_friction, 0.5);
   EXPECT_DOUBLE_EQ(scene.tracer.kinetic_friction, 0.5);  // the contacts' mu under physical drag
   EXPECT_DOUBLE_EQ(scene.tracer.static_friction_ratio, 1.4);
+  EXPECT_DOUBLE_EQ(scene.tracer.lift_coefficient, 0.25);
   EXPECT_EQ(scene.cotton.mass_kg, cotton_before.mass_kg);  // the other type is untouched
   EXPECT_EQ(scene.cotton.drag_coefficient, cotton_before.drag_coefficient);
   // Spaces around items are allowed; later texts override earlier ones.
