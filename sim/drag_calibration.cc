@@ -18,7 +18,10 @@ ObjectTypeParameters& type_of(CollectionOptions& c) {
 std::vector<double> grid(double lo, double hi, int points) {
   if (points <= 1 || lo == hi) return {lo};
   std::vector<double> out;
-  for (int i = 0; i < points; ++i) out.push_back(lo + (hi - lo) * i / (points - 1));
+  // Rounded to nine digits: 0.2, not 0.19999999999999998, in records and on the command line.
+  for (int i = 0; i < points; ++i) {
+    out.push_back(std::round((lo + (hi - lo) * i / (points - 1)) * 1e9) / 1e9);
+  }
   return out;
 }
 
