@@ -38,6 +38,9 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
   if (m.n_glitches_repaired) std::printf(", %zu glitched frames repaired", m.n_glitches_repaired);
   if (m.n_off_radial) std::printf(", %zu not radial from s", m.n_off_radial);
   if (m.n_transient) std::printf(", %zu in transients", m.n_transient);
+  if (m.speed_noise_mps > 0.0) {
+    std::printf(", v noise %.3g m/s, %zu negative v", m.speed_noise_mps, m.n_negative_speeds);
+  }
   std::printf(")\n  dv/dt =");
   bool first = true;
   for (int j = 0; j < kSindyTerms; ++j) {

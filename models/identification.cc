@@ -41,6 +41,8 @@ IdentifiedModel from_sindy(const SindyResult& r, const SpeedPairReport& rep, con
   m.position_noise_m = rep.position_noise_m;
   m.positions_smoothed = rep.positions_smoothed;
   m.stationary_speed_mps = rep.stationary_speed_mps;
+  m.speed_noise_mps = rep.speed_noise_mps;
+  m.n_negative_speeds = rep.n_negative_speeds;
   return m;
 }
 

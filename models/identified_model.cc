@@ -96,6 +96,8 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["position_noise_m"] = m.position_noise_m;
   j["positions_smoothed"] = m.positions_smoothed;
   j["stationary_speed_mps"] = m.stationary_speed_mps;
+  j["speed_noise_mps"] = m.speed_noise_mps;
+  j["n_negative_speeds"] = m.n_negative_speeds;
   j["source"] = m.source;
   return j.dump(2) + "\n";
 }

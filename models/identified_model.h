@@ -50,6 +50,8 @@ struct IdentifiedModel {
   double position_noise_m = 0.0;      ///< estimated detection noise per axis (trajectory data)
   bool positions_smoothed = false;    ///< positions smoothed before differencing
   double stationary_speed_mps = 0.0;  ///< the rest threshold used
+  double speed_noise_mps = 0.0;       ///< estimated noise of a speed series' v (0: trajectories)
+  size_t n_negative_speeds = 0;       ///< a speed series' negative v (measured near rest)
   std::string source;                 ///< the data file
 
   /// Whether only the terms of eq. (8) (1, v, vair) are active.

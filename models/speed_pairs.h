@@ -72,6 +72,10 @@ struct SpeedPairReport {
   double position_noise_m = 0.0;      ///< estimated detection noise (m, per axis; trajectories)
   bool positions_smoothed = false;    ///< whether positions were smoothed before differencing
   double stationary_speed_mps = 0.0;  ///< the rest threshold used (option or 3.5 x speed noise)
+  /// Speed series: the estimated noise of v (m/s), 1.4826 median |fourth difference| / sqrt(70),
+  /// (0 below 24 samples), and how many v were negative (measured speeds of objects at rest).
+  double speed_noise_mps = 0.0;
+  size_t n_negative_speeds = 0;
 };
 
 /// Builds the regression pairs for trajectories of one object type. Throws InputError when the

@@ -2,7 +2,9 @@
 // A speed series: data that already are speeds, for `airtwin identify --series`.
 //
 // CSV with header `t,v,vair` (any column order): t in s, uniformly sampled; v the object's speed
-// and vair the air speed at the object, both in m/s and >= 0 (speeds are magnitudes, eq. 9).
+// and vair the air speed at the object, both in m/s. Speeds are magnitudes (eq. 9), but measured
+// ones are not: a finite-difference or projected speed of a resting object is negative about half
+// of the time. Negative values are data; they are counted, not refused.
 // One series per file. `#` comments and blank lines are allowed (common/csv.h).
 
 #include <string>
@@ -13,11 +15,12 @@ namespace airtwin {
 
 struct SpeedSeries {
   std::vector<double> t_s, v_mps, vair_mps;
-  double dt_s = 0.0;  ///< the uniform sampling interval read from t
+  double dt_s = 0.0;                             ///< the uniform sampling interval read from t
+  size_t n_negative_v = 0, n_negative_vair = 0;  ///< measured values below zero
   size_t size() const { return t_s.size(); }
 };
 
-/// Reads and validates: header, finite numbers, v and vair >= 0, t strictly increasing with one
+/// Reads and validates: header, finite numbers, t strictly increasing with one
 /// interval (every step within 1% of the median step), at least 3 rows. Every problem is an
 /// InputError naming the file, the line and the column.
 SpeedSeries read_speed_series_csv(const std::string& path);

@@ -96,6 +96,19 @@ TEST_F(IdentifyCli, ObjectChoiceInAMixedFileAndSpeedSeries) {
   EXPECT_TRUE(js["object"].is_null());
   EXPECT_TRUE(js["end_position_mape"].is_null());  // a series has no positions
   EXPECT_NEAR(js["coefficients"][2].get<double>(), 3.46, 0.005 * 3.46);
+  EXPECT_EQ(js["n_negative_speeds"], 0);
+
+  // Measured speeds near rest are negative now and then: data, counted and reported.
+  std::string text = read_text_file(d + "/series.csv");
+  const std::string rest = ",0.000000,";  // a resting sample "t,0.000000,vair"
+  const size_t last = text.rfind(rest);
+  ASSERT_NE(last, std::string::npos);
+  text.replace(last, rest.size(), ",-0.004000,");
+  write(d + "/signed.csv", text);
+  const auto n = run_airtwin("identify --series " + d + "/signed.csv --out " + d + "/n.json");
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  EXPECT_NE(n.out.find("1 negative v"), std::string::npos) << n.out;
+  EXPECT_EQ(nlohmann::json::parse(read_text_file(d + "/n.json"))["n_negative_speeds"], 1);
 }
 
 TEST_F(IdentifyCli, BadInputIsOneClearLine) {
