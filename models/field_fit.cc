@@ -518,7 +518,7 @@ FieldFitResult fit_field_table(const FieldGrid& grid, const FieldGrid* cfd,
                        tilt_text(deg_to_rad(kMinTiltSpacingDeg)) + " deg; use one value per tilt");
     }
     previous_tilt = t.tilt_rad;
-    auto check = [&](const std::vector<const FieldSample*>& v, const std::string& source) {
+    auto check = [&t = t](const std::vector<const FieldSample*>& v, const std::string& source) {
       if (!v.empty() && v.size() < kMinSamplesPerTilt) {
         throw InputError(source + ": tilt " + tilt_text(t.tilt_rad) + " deg has " +
                          std::to_string(v.size()) + " sample(s), at least " +

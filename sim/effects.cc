@@ -33,11 +33,11 @@ std::vector<double> resolve(const Effect& effect) {
   for (const EffectParameter& p : spec.params) values.push_back(p.example);
   std::set<std::string> seen;
   for (const auto& [key, value] : effect.params) {
-    const size_t i = located(where, [&] { return effect_parameter_index(spec, key); });
+    const size_t i = located(where, [&, &key = key] { return effect_parameter_index(spec, key); });
     if (!seen.insert(key).second) {
       throw InputError(where + ": parameter '" + key + "' is given twice");
     }
-    located(where, [&] { check_effect_value(spec, spec.params[i], value); });
+    located(where, [&, value = value] { check_effect_value(spec, spec.params[i], value); });
     values[i] = value;
   }
   return values;
