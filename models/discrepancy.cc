@@ -143,6 +143,7 @@ CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
                                 const DiscrepancyOptions& o) {
   const double base_sse = sum_squares(sel.cur_train);
   const double base_err = mean_path_error(sel.cur_held, informative);
+  const double base_end_mape = end_mape(sel.cur_held);
   std::vector<std::string> fit_names = sel.chosen;
   fit_names.push_back(name);
   const bool nuisance =
@@ -173,8 +174,10 @@ CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
   c.gain = 1.0 - c.heldout_path_error / base_err;
   c.heldout_cost = sum_squares(h);
   c.relevant = extension_size(fit.ext, name) > negligible_size(name);
-  c.significant =
-      c.delta_bic <= o.max_delta_bic && c.p_value < threshold && c.gain >= o.min_gain && c.relevant;
+  // Never a cause beside a worse held-out figure: the end-position MAPE must not grow either.
+  c.end_mape_improves = !(c.heldout_end_mape > base_end_mape);
+  c.significant = c.delta_bic <= o.max_delta_bic && c.p_value < threshold && c.gain >= o.min_gain &&
+                  c.relevant && c.end_mape_improves;
   return c;
 }
 

@@ -88,6 +88,7 @@ struct CandidateResult {
   double gain = 0.0;                ///< 1 - held-out path error / the base's
   double heldout_cost = 0.0;        ///< the robust cost over the held-out windows
   bool relevant = false;            ///< larger than the extension's negligible size
+  bool end_mape_improves = false;   ///< held-out end MAPE not above the round's base
   bool significant = false;
   int fit_evaluations = 0;
 };

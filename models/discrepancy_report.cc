@@ -37,6 +37,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                 {"gain", num(c.gain)},
                 {"heldout_cost", num(c.heldout_cost)},
                 {"relevant", c.relevant},
+                {"end_mape_improves", c.end_mape_improves},
                 {"significant", c.significant},
                 {"fit_evaluations", c.fit_evaluations}};
   };
