@@ -57,9 +57,11 @@ const TrajectorySet& data() {
   return set;
 }
 
+// Arg: bootstraps fitted in parallel (1: one thread, the reference; 0: every core).
 void BM_IdentifyTrajectories(benchmark::State& state) {
   const TrajectorySet& set = data();
   IdentificationOptions o;  // robust-esindy, 15 bootstraps
+  o.sindy.threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
     const IdentifiedModel m = identify_trajectories(set, "tracer", field(), o);
     benchmark::DoNotOptimize(m.coefficients);
@@ -71,13 +73,20 @@ void BM_IdentifyTrajectories(benchmark::State& state) {
     state.counters["pairs"] = static_cast<double>(m.n_pairs);
   }
 }
-BENCHMARK(BM_IdentifyTrajectories)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_IdentifyTrajectories)
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0)
+    ->UseRealTime();
 
 void BM_SindyOnly(benchmark::State& state) {
   const SpeedPairs d = speed_pairs_from_trajectories(data(), field(), SpeedPairOptions{}, nullptr);
-  for (auto _ : state) benchmark::DoNotOptimize(identify_sindy(d, SindyOptions{}).continuous);
+  SindyOptions o;
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(identify_sindy(d, o).continuous);
 }
-BENCHMARK(BM_SindyOnly)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_SindyOnly)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 void BM_SpeedPairsOnly(benchmark::State& state) {
   for (auto _ : state) {

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <thread>
 #include <unsupported/Eigen/LevenbergMarquardt>
 
 #include "common/errors.h"
+#include "common/parallel_for.h"
 
 namespace airtwin {
 
@@ -202,14 +204,22 @@ Eigen::VectorXd bisquare_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
   Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
   Eigen::VectorXd b = X.colPivHouseholderQr().solve(y);
   bool reweighted = false;
+  std::vector<double> a;  // |adjusted residuals|, reused by every iteration
   for (int it = 0; it < 50; ++it) {
     const Eigen::VectorXd r_adj = (y - X * b).cwiseProduct(adjust);
-    // Robust scale: median absolute adjusted residual, ignoring the p smallest (MATLAB madsigma).
-    std::vector<double> a(r_adj.size());
-    for (Eigen::Index i = 0; i < n; ++i) a[i] = std::abs(r_adj[i]);
-    std::sort(a.begin(), a.end());
-    std::vector<double> tail(a.begin() + std::min<Eigen::Index>(p, n - 1), a.end());
-    double s = median(tail) / 0.6745;
+    // Robust scale: median absolute adjusted residual, ignoring the p smallest (MATLAB madsigma):
+    // the order statistics of the tail found by selection, not a full sort (same values).
+    a.resize(static_cast<size_t>(n));
+    for (Eigen::Index i = 0; i < n; ++i) a[static_cast<size_t>(i)] = std::abs(r_adj[i]);
+    const size_t skip = static_cast<size_t>(std::min<Eigen::Index>(p, n - 1));
+    const size_t len = a.size() - skip, k = skip + len / 2;
+    std::nth_element(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(k), a.end());
+    const double hi = a[k];
+    const double mid =
+        len % 2
+            ? hi
+            : 0.5 * (hi + *std::max_element(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(k)));
+    double s = mid / 0.6745;
     if (!(s > 0)) break;  // an exact fit: nothing to down-weight
     for (Eigen::Index i = 0; i < n; ++i) {
       const double u = r_adj[i] / (kTune * s);
@@ -275,20 +285,30 @@ SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
     for (int j = 0; j < kSindyTerms; ++j) res.inclusion[j] = res.discrete[j] != 0.0 ? 1.0 : 0.0;
   } else {
     // E-SINDy: bootstrap the rows, identify each, take the median per term.
+    // The rows of every bootstrap drawn first, in order, then the fits in parallel.
     std::mt19937_64 rng(o.seed);
     std::uniform_int_distribution<Eigen::Index> pick(0, n - 1);
-    std::vector<std::vector<double>> samples(kSindyTerms);
-    Eigen::MatrixXd Xb(n, kSindyTerms);
-    Eigen::VectorXd yb(n);
-    for (int b = 0; b < o.bootstraps; ++b) {
+    const size_t nb = static_cast<size_t>(o.bootstraps);
+    std::vector<std::vector<Eigen::Index>> rows(nb, std::vector<Eigen::Index>(n));
+    for (std::vector<Eigen::Index>& r : rows)
+      for (Eigen::Index& k : r) k = pick(rng);
+    std::vector<Coefficients> fits(nb);
+    const int threads = o.threads > 0
+                            ? o.threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    parallel_for(nb, threads, [&](size_t b) {
+      Eigen::MatrixXd Xb(n, kSindyTerms);
+      Eigen::VectorXd yb(n);
       for (Eigen::Index i = 0; i < n; ++i) {
-        const Eigen::Index k = pick(rng);
+        const Eigen::Index k = rows[b][static_cast<size_t>(i)];
         Xb.row(i) = X.row(k);
         yb[i] = d.v_next[k];
       }
-      const Coefficients xi = stlsq(Xb, yb, o, robust, nullptr);
+      fits[b] = stlsq(Xb, yb, o, robust, nullptr);
+    });
+    std::vector<std::vector<double>> samples(kSindyTerms);
+    for (const Coefficients& xi : fits)
       for (int j = 0; j < kSindyTerms; ++j) samples[j].push_back(xi[j]);
-    }
     for (int j = 0; j < kSindyTerms; ++j) {
       res.discrete[j] = median(samples[j]);
       res.inclusion[j] =

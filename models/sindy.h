@@ -59,6 +59,9 @@ struct SindyOptions {
   double lambda = 0.07;  ///< threshold on discrete-time coefficients
   int bootstraps = 15;
   std::uint64_t seed = 1;
+  /// Bootstraps fitted in parallel (0: one thread per core). The rows of every bootstrap are drawn
+  /// first, in order, from `seed`: the result does not depend on the thread count.
+  int threads = 0;
 };
 
 struct SindyResult {

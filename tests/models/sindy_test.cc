@@ -158,6 +158,16 @@ TEST(Sindy, SameSeedSameResultOtherSeedOtherBootstraps) {
   const SindyResult a = identify_sindy(d, o), b = identify_sindy(d, o);
   EXPECT_EQ(a.continuous, b.continuous);
   EXPECT_EQ(a.discrete, b.discrete);
+  // The bootstraps' rows are drawn before the fits run in parallel: any thread count, the same
+  // bytes.
+  for (int threads : {1, 2, 5}) {
+    o.threads = threads;
+    const SindyResult t = identify_sindy(d, o);
+    EXPECT_EQ(t.discrete, a.discrete) << threads;
+    EXPECT_EQ(t.inclusion, a.inclusion) << threads;
+    EXPECT_EQ(t.weights, a.weights) << threads;
+  }
+  o.threads = 0;
   o.seed = 12;
   EXPECT_NE(identify_sindy(d, o).discrete, a.discrete);
 }
