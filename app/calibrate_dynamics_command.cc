@@ -145,19 +145,25 @@ void run_calibrate_physical(CalibrateArgs a) {
   for (size_t i = 0; i < keys.size(); ++i) {
     physics += (i ? "," : "") + keys[i] + "=" + format_number(best.values[i]);
   }
-  const nlohmann::ordered_json j = {{"object", o.collection.object},
-                                    {"air", air_identity(a.air)},
-                                    {"drag", "physical"},
-                                    {"table", a.table.empty() ? "built-in" : a.table},
-                                    {"target", triple(o.target)},
-                                    {"best", c.best},
-                                    {"best_object_physics", physics},
-                                    {"per_tilt", o.collection.per_tilt},
-                                    {"seed", o.collection.seed},
-                                    {"points", points}};
+  const nlohmann::ordered_json j = {
+      {"object", o.collection.object},
+      {"air", air_identity(a.air)},
+      {"drag", "physical"},
+      {"table", a.table.empty() ? "built-in" : a.table},
+      {"target", triple(o.target)},
+      {"best", c.best},
+      {"best_object_physics", physics},
+      {"best_repeatability_pct", std::isfinite(c.best_repeatability_pct)
+                                     ? nlohmann::ordered_json(c.best_repeatability_pct)
+                                     : nlohmann::ordered_json(nullptr)},
+      {"per_tilt", o.collection.per_tilt},
+      {"seed", o.collection.seed},
+      {"points", points}};
   write_text_file(a.out, j.dump(2) + "\n");
-  std::printf("best of %zu points: %s\n  --object-physics %s\nwritten to %s\n", c.points.size(),
-              row(best).c_str(), physics.c_str(), a.out.c_str());
+  std::printf(
+      "best of %zu points: %s\n  repeatability %.1f %% (paper 7.7 %%)\n  --object-physics %s\n"
+      "written to %s\n",
+      c.points.size(), row(best).c_str(), c.best_repeatability_pct, physics.c_str(), a.out.c_str());
 }
 
 void run_calibrate(CalibrateArgs a) {

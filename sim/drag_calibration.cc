@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "common/errors.h"
 #include "common/text.h"
+#include "sim/dynamics_calibration.h"
 
 namespace airtwin {
 namespace {
@@ -156,6 +158,22 @@ DragCalibration calibrate_drag(
     }
     run_grid(from, to);
   }
+  // Repeatability at the best point: the paper's 8 placements at one tilt, six runs each.
+  CollectionOptions rep = o.collection;
+  for (size_t i = 0; i < o.axes.size(); ++i) {
+    set_object_physics_value(o.axes[i].key, result.points[result.best].values[i], &type_of(rep));
+  }
+  rep.per_tilt = 8;
+  rep.tilts_rad = {rep.tilts_rad.front()};
+  double sum = 0.0;
+  int n = 0;
+  for (const CollectionTrial& trial : plan_collection(rep)) {
+    const std::optional<double> mape = repeatability_mape_pct(trial, rep, field, 6);
+    if (!mape) continue;
+    sum += *mape;
+    ++n;
+  }
+  result.best_repeatability_pct = n > 0 ? sum / n : NAN;
   return result;
 }
 

@@ -62,6 +62,9 @@ struct DragCalibrationPoint {
 struct DragCalibration {
   std::vector<DragCalibrationPoint> points;  ///< in evaluation order
   size_t best = 0;                           ///< the smallest worst relative error
+  /// The best point's repeatability as the paper measured it (sim/dynamics_calibration.h,
+  /// repeatability_mape_pct): 8 trials at the first tilt, 6 runs each; NaN when none moved.
+  double best_repeatability_pct = 0.0;
 };
 
 /// The active terms of a model, comma-separated in library order ("1,v,vair").

@@ -94,6 +94,10 @@ TEST(DragCalibration, GridThenRefinementAndTheBestIsTheClosest) {
       std::max({std::abs(e.xi1 / o.target.xi1 - 1), std::abs(e.xi2 / o.target.xi2 - 1),
                 std::abs(e.xi3 / o.target.xi3 - 1)});
   EXPECT_DOUBLE_EQ(c.points[1].worst_relative_error, worst);
+  // The paper's repeatability measure at the best point: a percentage of the travel, finite.
+  EXPECT_TRUE(std::isfinite(c.best_repeatability_pct));
+  EXPECT_GE(c.best_repeatability_pct, 0.0);
+  EXPECT_LT(c.best_repeatability_pct, 100.0);
 }
 
 }  // namespace
