@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/atomic_file.h"
+#include "common/csv.h"
 #include "common/errors.h"
 #include "vision/yaml_fields.h"
 
@@ -107,14 +108,7 @@ CalibratedCamera CalibratedCamera::read(const std::string& path) {
     throw InputError(path + ": no such camera calibration file");
   }
   cv::FileStorage fs;
-  try {
-    if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML)) {
-      throw InputError(path + ": cannot open the camera calibration file");
-    }
-  } catch (const cv::Exception&) {
-    throw InputError(path +
-                     ": not a YAML camera calibration file (cv::FileStorage cannot parse it)");
-  }
+  open_yaml(read_text_file(path), path, "camera calibration file", &fs);
   const YamlFields in(path, fs);
 
   // The image size and the intrinsics: positive focal lengths, the bottom row (0 0 1).

@@ -477,15 +477,7 @@ CalibrationTarget CalibrationTarget::read(const std::string& path) {
   if (!file) throw InputError(path + ": cannot read the calibration target file");
   if (text.rfind("%YAML", 0) != 0) text.insert(0, "%YAML:1.0\n---\n");
   cv::FileStorage storage;
-  try {
-    if (!storage.open(
-            text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML)) {
-      throw InputError(path + ": cannot open the calibration target file");
-    }
-  } catch (const cv::Exception&) {
-    throw InputError(path +
-                     ": not a YAML calibration target file (cv::FileStorage cannot parse it)");
-  }
+  open_yaml(text, path, "calibration target file", &storage);
   const YamlFields in(path, storage);
 
   // The board: an asymmetric pattern of at least 3 x 3 inner corners.

@@ -14,6 +14,14 @@
 
 namespace airtwin {
 
+/// Opens the YAML `text` of the file `path` in `fs` (cv::FileStorage, from memory). Throws
+/// InputError naming the file, saying it is not a YAML `what`, when OpenCV's parser refuses it or
+/// when the text is not one document whose top level is a block map starting at column 0 (after
+/// a %YAML directive and a --- line, both optional): OpenCV's parser loops forever on some text
+/// after a first document, so a second one is never handed to it.
+void open_yaml(const std::string& text, const std::string& path, const std::string& what,
+               cv::FileStorage* fs);
+
 class YamlFields {
  public:
   /// `path` names the file in messages; both must outlive the reader.

@@ -195,6 +195,16 @@ TEST(CalibratedCamera, ReadRejectsMalformedValues) {
   }
 }
 
+// The size a file states is checked before anything is allocated: 10^10 doubles in name are a
+// wrong size, not an allocation (fuzz/calibrated_camera_fuzz.cc, docs/fuzzing.md).
+TEST(CalibratedCamera, ReadChecksAMatrixSizeBeforeAllocating) {
+  const std::string path = edited_file(
+      "huge.yaml", "K",
+      "K: !!opencv-matrix\n   rows: 100000\n   cols: 100000\n   dt: d\n   data: [ 1. ]\n");
+  const std::string message = read_error(path);
+  EXPECT_NE(message.find("K must be a 3 x 3 matrix"), std::string::npos) << message;
+}
+
 TEST(CalibratedCamera, ReadNamesAMissingOrUnparsableFile) {
   const std::string missing = temp_path("does_not_exist.yaml");
   EXPECT_NE(read_error(missing).find(missing), std::string::npos);
@@ -202,6 +212,21 @@ TEST(CalibratedCamera, ReadNamesAMissingOrUnparsableFile) {
   write_text(garbage, "%YAML:1.0\n---\nK: [1, 2\n  : : ]]\n");
   const std::string message = read_error(garbage);
   EXPECT_NE(message.find(garbage), std::string::npos) << message;
+  // OpenCV's YAML parser throws std::length_error on a key that starts with ':'
+  // (fuzz/calibrated_camera_fuzz.cc): still one InputError naming the file.
+  const std::string colon_key = temp_path("colon_key.yaml");
+  write_text(colon_key, "%YAML:1.0\n---\na:\n   b: 3\n   :c 1\n");
+  EXPECT_NE(read_error(colon_key).find(colon_key), std::string::npos) << read_error(colon_key);
+  // Neither a list at the top level, on which OpenCV asserts at the first key, nor a second
+  // document, on which its parser loops forever, is handed to OpenCV.
+  for (const std::string text :
+       {"%YAML:1.0\n---\n- width_px\n- 1024\n", "%YAML:1.0\n---\n a: 3\n!x\n-"}) {
+    const std::string path = temp_path("not_one_map.yaml");
+    write_text(path, text);
+    EXPECT_NE(read_error(path).find(path + ": not a YAML camera calibration file"),
+              std::string::npos)
+        << read_error(path);
+  }
 }
 
 }  // namespace

@@ -252,6 +252,23 @@ TEST(CameraCalibration, SkipsAndReportsFramesWithoutABoard) {
   EXPECT_EQ(r.camera.n_views, 6);
 }
 
+// A target file that OpenCV's YAML parser chokes on is one InputError naming the file
+// (fuzz/calibration_target_fuzz.cc): a key starting with ':' (std::length_error inside OpenCV),
+// an indented top level followed by more text (the parser then loops forever).
+TEST(CameraCalibration, TargetFilesOpenCvCannotParseAreOneError) {
+  fs::create_directories(test_dir("unparsable_target"));
+  const fs::path path = test_dir("unparsable_target") / "target.yaml";
+  for (const std::string text : {"board:\n   b: 3\n   :c 1\n", " board: 3\n!x\n-"}) {
+    std::ofstream(path) << text;
+    try {
+      CalibrationTarget::read(path.string());
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(CameraCalibration, RefusesUnusableFolders) {
   // No folder.
   const fs::path missing = test_dir("does_not_exist");
