@@ -52,7 +52,7 @@ CfdCase CfdCase::read(const std::string& header_path) {
   Json h;
   try {
     h = Json::parse(text.str());
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
     throw InputError(header_path + ": not JSON (" + e.what() + ")");
   }
   const std::string& where = header_path;

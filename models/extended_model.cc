@@ -67,7 +67,7 @@ ExtendedModel parse_extended_model_json(const std::string& text, const std::stri
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
     throw InputError(source + ": not JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {

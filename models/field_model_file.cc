@@ -40,7 +40,7 @@ AirFieldModel read_air_field_model(const std::string& path) {
   Json j;
   try {
     j = Json::parse(text.str());
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
     throw InputError(path + ": not JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {

@@ -196,6 +196,10 @@ TEST(CfdCase, BadFilesAreOneClearError) {
     t.replace(t.find(from), from.size(), to);
     std::ofstream(header) << t;
   };
+  // A number past double's range: nlohmann's out_of_range, not a parse error
+  // (fuzz/cfd_case_fuzz.cc).
+  with("\"tilt_deg\": 10.0", "\"tilt_deg\": 1e999");
+  EXPECT_NE(error_of([&] { CfdCase::read(header); }).find("not JSON"), std::string::npos);
   with("\"tilt_deg\"", "\"tilt_dgr\"");
   EXPECT_NE(error_of([&] { CfdCase::read(header); }).find("missing field 'tilt_deg'"),
             std::string::npos);

@@ -45,6 +45,9 @@ TEST(ExtendedModel, BadFilesNameWhatIsWrong) {
     return std::string("no error");
   };
   EXPECT_NE(error_of("not json").find("m.json: not JSON"), std::string::npos);
+  // A number past double's range: nlohmann's out_of_range, not a parse error
+  // (fuzz/extended_model_fuzz.cc).
+  EXPECT_NE(error_of("{\"version\": 1e999}").find("m.json: not JSON"), std::string::npos);
   std::string t = good;
   t.replace(t.find("field_scale"), 11, "field_scalf");
   EXPECT_NE(error_of(t).find("unknown effect 'field_scalf'"), std::string::npos);
