@@ -1,5 +1,7 @@
 #include "runs/batch_manifest.h"
 
+#include <limits>
+
 #include "common/errors.h"
 
 namespace airtwin {
@@ -87,10 +89,19 @@ BatchManifest BatchManifest::parse(const std::string& text, const std::string& s
       m.scenarios.push_back({e.at("name").get<std::string>(), e.at("file").get<std::string>(),
                              e.at("content_hash").get<std::string>()});
     }
-    m.first_seed = j.at("seeds").at("first").get<uint64_t>();
-    m.seed_count = j.at("seeds").at("count").get<int>();
-    m.shard.index = j.at("shard").at("index").get<int>();
-    m.shard.count = j.at("shard").at("count").get<int>();
+    const auto whole = [&](const char* section, const char* name, uint64_t max) {
+      const ordered_json& v = j.at(section).at(name);
+      if (!v.is_number_unsigned() || v.get<uint64_t>() > max) {
+        throw InputError(source + ": batch manifest: " + section + "." + name +
+                         " must be a whole number in [0, " + std::to_string(max) + "]");
+      }
+      return v.get<uint64_t>();
+    };
+    constexpr uint64_t kIntMax = std::numeric_limits<int>::max();
+    m.first_seed = whole("seeds", "first", std::numeric_limits<uint64_t>::max());
+    m.seed_count = static_cast<int>(whole("seeds", "count", kIntMax));
+    m.shard.index = static_cast<int>(whole("shard", "index", kIntMax));
+    m.shard.count = static_cast<int>(whole("shard", "count", kIntMax));
     m.settings = j.at("settings");
     if (m.seed_count < 1 || m.shard.count < 1 || m.shard.index < 0 ||
         m.shard.index >= m.shard.count) {

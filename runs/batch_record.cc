@@ -1,5 +1,6 @@
 #include "runs/batch_record.h"
 
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "common/errors.h"
@@ -59,10 +60,24 @@ RunRecord parse_record(const std::string& text, const std::string& source) {
       if (parent.at(name).is_null()) return std::nullopt;
       return number(parent, name);
     };
+    const auto count = [&](const ordered_json& parent, const char* name, int64_t max) {
+      key = name;
+      const ordered_json& v = parent.at(name);
+      if (!v.is_number_integer() || v.get<int64_t>() < 0 || v.get<int64_t>() > max) {
+        throw InputError(source + ": '" + key + "' must be a whole number in [0, " +
+                         std::to_string(max) + "]");
+      }
+      return v.get<int64_t>();
+    };
+    constexpr int64_t kIntMax = std::numeric_limits<int>::max();
+    constexpr int64_t kInt64Max = std::numeric_limits<int64_t>::max();
     RunRecord r;
     key = "scenario";
     r.key.scenario = j.at("scenario").get<std::string>();
     key = "seed";
+    if (!j.at("seed").is_number_unsigned()) {
+      throw InputError(source + ": 'seed' must be a whole number >= 0");
+    }
     r.key.seed = j.at("seed").get<uint64_t>();
     key = "success";
     r.success = j.at("success").get<bool>();
@@ -75,9 +90,9 @@ RunRecord parse_record(const std::string& text, const std::string& source) {
       r.path_error_max_cm = number(e, "max");
     }
     r.max_pairwise_distance_cm = number(j, "max_pairwise_distance_cm");
-    r.objects_in_zone = static_cast<int>(number(j, "objects_in_zone"));
-    r.n_objects = static_cast<int>(number(j, "n_objects"));
-    r.decisions = static_cast<int64_t>(number(j, "decisions"));
+    r.objects_in_zone = static_cast<int>(count(j, "objects_in_zone", kIntMax));
+    r.n_objects = static_cast<int>(count(j, "n_objects", kIntMax));
+    r.decisions = count(j, "decisions", kInt64Max);
     r.decision_ms_mean = number(j.at("decision_ms"), "mean");
     r.decision_ms_max = number(j.at("decision_ms"), "max");
     r.end_time_s = number(j, "end_time_s");
@@ -86,14 +101,14 @@ RunRecord parse_record(const std::string& text, const std::string& source) {
     r.perception = j.at("perception").get<std::string>();
     if (j.contains("vision")) {
       const ordered_json& v = j.at("vision");
-      r.vision_frames = static_cast<int64_t>(number(v, "frames"));
+      r.vision_frames = count(v, "frames", kInt64Max);
       r.vision_frame_ms = number(v, "frame_ms");
-      r.vision_detections = static_cast<int64_t>(number(v, "detections"));
-      r.vision_tracks = static_cast<int64_t>(number(v, "tracks"));
-      r.vision_missed = static_cast<int64_t>(number(v, "missed"));
-      r.vision_merged = static_cast<int64_t>(number(v, "merged"));
-      r.vision_lost = static_cast<int64_t>(number(v, "lost"));
-      r.vision_left_view = static_cast<int64_t>(number(v, "left_view"));
+      r.vision_detections = count(v, "detections", kInt64Max);
+      r.vision_tracks = count(v, "tracks", kInt64Max);
+      r.vision_missed = count(v, "missed", kInt64Max);
+      r.vision_merged = count(v, "merged", kInt64Max);
+      r.vision_lost = count(v, "lost", kInt64Max);
+      r.vision_left_view = count(v, "left_view", kInt64Max);
     }
     key = "error";
     if (j.contains("error")) r.error = j.at("error").get<std::string>();

@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "common/errors.h"
 
 namespace airtwin {
@@ -69,6 +73,22 @@ TEST(BatchManifest, RefusesWhatIsNoManifest) {
     FAIL() << "accepted a shard count of 0";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("b.json"), std::string::npos);
+  }
+}
+
+// Seeds and shards outside their type are refused, not cast: a count of 6.7e21 was read as a
+// double and cast to int, undefined behaviour (fuzz/batch_manifest_fuzz.cc, docs/fuzzing.md).
+TEST(BatchManifest, RefusesSeedsAndShardsOutOfRange) {
+  const std::string good = example().to_json();
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"\"count\": 4", "\"count\": 6.7e21"},
+      {"\"count\": 4", "\"count\": 2147483648"},
+      {"\"first\": 3", "\"first\": -3"},
+      {"\"index\": 1", "\"index\": 1.5"}};
+  for (const auto& [from, to] : edits) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    EXPECT_THROW(BatchManifest::parse(text, "b.json"), InputError) << to;
   }
 }
 

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "common/errors.h"
 
@@ -66,6 +69,22 @@ TEST(BatchRecord, RefusesWhatIsNoRecordNamingTheKey) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("r.json"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("wall_s"), std::string::npos) << e.what();
+  }
+}
+
+// A seed or a count outside its type is refused, not cast: a seed past 2^64 was read as a double
+// and cast, undefined behaviour (fuzz/batch_record_fuzz.cc, docs/fuzzing.md).
+TEST(BatchRecord, RefusesSeedsAndCountsOutOfRange) {
+  const std::string good = failed_record_json({"line", 1}, 1, 120.0, "truth", "x", 1.0);
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"\"seed\": 1", "\"seed\": 18446744073709551616"},
+      {"\"seed\": 1", "\"seed\": -1"},
+      {"\"n_objects\": 1", "\"n_objects\": 1e300"},
+      {"\"decisions\": 0", "\"decisions\": -1"}};
+  for (const auto& [from, to] : edits) {
+    std::string json = good;
+    json.replace(json.find(from), from.size(), to);
+    EXPECT_THROW(parse_record(json, "r.json"), InputError) << to;
   }
 }
 
