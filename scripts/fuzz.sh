@@ -60,7 +60,7 @@ all_targets=$(find fuzz -maxdepth 1 -name '*_fuzz.cc' -printf '%f\n' | sed 's/_f
 if [ -z "$targets" ]; then targets=$all_targets; fi
 for t in $targets; do
   if ! grep -qx "$t" <<<"$all_targets"; then
-    echo "fuzz.sh: no target '$t'; the targets are: $(echo $all_targets)" >&2
+    echo "fuzz.sh: no target '$t'; the targets are: $(tr '\n' ' ' <<<"$all_targets")" >&2
     exit 2
   fi
 done
@@ -74,6 +74,10 @@ if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   # Paths relative to the checkout in ccache's hashes: another clone of the same sources hits.
   export CCACHE_BASEDIR="$PWD"
+  # With -g ccache also hashes the build folder's path (it is in the debug information), so no
+  # other clone or folder would hit; a hit's debug information then names the folder that
+  # filled the cache, which only changes the directory shown in stack traces.
+  export CCACHE_NOHASHDIR=1
 fi
 
 # Configure and build the targets only (the libraries they link, not the app, tests or bench).

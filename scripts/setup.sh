@@ -28,8 +28,9 @@ packages=(
   libopencv-dev ffmpeg
   # command line, data files, logging
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libspdlog-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; clang with its runtime libraries for libFuzzer (scripts/fuzz.sh: the
+  # test stage's fuzz smoke; LLVM itself already comes with clang-format)
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev
 )
 if [ "$cfd" = 1 ]; then
   # CFD of the jet: OpenFOAM (with Open MPI) and Debian's Python with numpy for post-processing

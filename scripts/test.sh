@@ -11,21 +11,26 @@
 #   format          clang-format on every C++ source (a check that fails, not a rewrite)
 #   sanitizer       AddressSanitizer + UndefinedBehaviorSanitizer build of the parsers' and the
 #                   cores' unit tests (common, models, sim, controller, scenes, camera file)
+#   fuzz smoke      scripts/fuzz.sh: every parser's libFuzzer target (clang, ASan + UBSan in
+#                   build-fuzz/) for a few thousand executions from its seed corpus, seed 1
 #   slurm           the batch as a job array on a one-node Slurm cluster
 # Ends with a table of each stage's wall time, also when a stage fails.
 # The many-seed sweeps are in scripts/acceptance.sh.
-# Usage: bash scripts/test.sh [--no-sanitize] [--no-slurm]
+# Usage: bash scripts/test.sh [--no-sanitize] [--no-fuzz] [--no-slurm]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 sanitize=1
+fuzz=1
 slurm=1
 for arg in "$@"; do
   case "$arg" in
     --no-sanitize) sanitize=0 ;;
+    --no-fuzz) fuzz=0 ;;
     --no-slurm) slurm=0 ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "test.sh: unknown argument '$arg' (expected --no-sanitize, --no-slurm or --help)" >&2
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (expected --no-sanitize, --no-fuzz, --no-slurm or" \
+         "--help)" >&2
        exit 2 ;;
   esac
 done
@@ -128,6 +133,13 @@ if [ "$sanitize" = 1 ]; then
   check "sanitizer tests" env ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan -j"$jobs" -L '^unit$' -E '_NOT_BUILT$' --output-on-failure
+fi
+
+if [ "$fuzz" = 1 ]; then
+  # Each parser's fuzz target from its corpus in tests/fuzz/, 3000 executions with libFuzzer's
+  # seed 1: its own clang build (no objects to share with the g++ stages); ~20 s from a warm
+  # ccache, ~3 min cold (docs/fuzzing.md). The 1e6-execution campaign is `bash scripts/fuzz.sh`.
+  check "fuzz smoke" bash scripts/fuzz.sh --runs 3000 --seed 1 --jobs "$jobs"
 fi
 
 if [ "$slurm" = 1 ]; then
