@@ -32,8 +32,9 @@ std::vector<double> grid(double lo, double hi, int points) {
 void DragCalibrationOptions::validate() const {
   collection.validate();
   target.validate("calibration target");
-  CollectionOptions c = collection;
-  if (type_of(c).drag_law != DragLaw::kPhysical) {
+  const SceneParameters& scene = collection.twin.scene;
+  if ((collection.object == "tracer" ? scene.tracer : scene.cotton).drag_law !=
+      DragLaw::kPhysical) {
     throw FieldError("calibration.object",
                      "the " + collection.object + "'s drag law must be the physical one");
   }
