@@ -20,6 +20,7 @@ void add_batch_merge_command(CLI::App& app);  // the shards of a batch -> one re
 void add_render_command(CLI::App& app);     // synthetic camera dataset of a scenario: frames, truth
 void add_calibrate_command(CLI::App& app);  // camera model from calibration-target frames
 void add_detect_command(CLI::App& app);     // detection + tracking on frames -> detections.csv
-void add_discrepancy_command(CLI::App& app);  // model vs data: causes, extended model, gain
+void add_discrepancy_command(CLI::App& app);   // model vs data: causes, extended model, gain
+void add_trajectories_command(CLI::App& app);  // detections + nozzle log -> trajectory CSV
 
 }  // namespace airtwin::cli

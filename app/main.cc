@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   airtwin::cli::add_render_command(app);
   airtwin::cli::add_calibrate_command(app);
   airtwin::cli::add_detect_command(app);
+  airtwin::cli::add_trajectories_command(app);
   airtwin::cli::add_discrepancy_command(app);
 
   try {

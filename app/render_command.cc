@@ -3,6 +3,7 @@
 // frames at its 40 Hz of simulated time (section II-A), the twin stepping between frames. Writes
 //   DIR/frames/frame_000000.png ...   the camera's frames (what vision reads)
 //   DIR/truth.csv                     frame,t,id,object,x,y,x_px,y_px (the renderer's ground truth)
+//   DIR/nozzle.csv                    t,pan_deg,tilt_deg: the one command, in force from t = 0
 //   DIR/calibration/                  views of a checkerboard for the camera calibration
 // and optionally an H.264 video (with overlays for people when --overlay). docs/rendering.md.
 
@@ -27,6 +28,7 @@
 #include "common/units.h"
 #include "controller/task.h"
 #include "models/air_field.h"
+#include "models/nozzle_log.h"
 #include "renders/calibration_target.h"
 #include "renders/camera_model.h"
 #include "renders/frame_renderer.h"
@@ -314,6 +316,8 @@ void run_render(const RenderArgs& a) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (progress) progress->finish();
   write_text_file(a.out + "/truth.csv", truth);
+  // The nozzle's log (models/nozzle_log.h): one command, in force from the first frame on.
+  write_text_file(a.out + "/nozzle.csv", nozzle_log_csv({{0.0, twin.commanded_orientation()}}));
 
   // The calibration views of the same camera (renders/calibration_target.h).
   int views = 0;
@@ -350,8 +354,9 @@ void add_render_command(CLI::App& app) {
       "objects,\n"
       "the jet on (settled) at one nozzle orientation, N frames of the top camera at 40 Hz of\n"
       "simulated time. Writes DIR/frames/frame_NNNNNN.png, DIR/truth.csv\n"
-      "(frame,t,id,object,x,y,x_px,y_px: world m and ground-truth pixel) and DIR/calibration/\n"
-      "(checkerboard views); optionally an H.264 video, with overlays for people.\n"
+      "(frame,t,id,object,x,y,x_px,y_px: world m and ground-truth pixel), DIR/nozzle.csv\n"
+      "(t,pan_deg,tilt_deg: the command) and DIR/calibration/ (checkerboard views);\n"
+      "optionally an H.264 video, with overlays for people.\n"
       "docs/rendering.md, docs/data_formats.md.");
   sub->add_option("scenario", args->scenario, "Scenario YAML file (docs/scenario_schema.md)")
       ->required();

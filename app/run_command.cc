@@ -1,6 +1,6 @@
 // airtwin run: one closed-loop run of a scenario in the twin (runs/scenario_run.h). Writes
 // DIR/summary.json, DIR/log.csv (the trajectory CSV, nozzle commands included),
-// DIR/decisions.csv and DIR/plans.csv.
+// DIR/decisions.csv, DIR/plans.csv and DIR/nozzle.csv (the commands sent to the nozzle).
 
 #include <cmath>
 #include <cstdio>
@@ -75,6 +75,7 @@ void run_run(const RunArgs& a) {
   write_text_file(a.out + "/log.csv", trajectory_csv(result.log));
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
   write_text_file(a.out + "/plans.csv", plans_csv(result));
+  write_text_file(a.out + "/nozzle.csv", nozzle_log_csv(result.nozzle_log));
 
   std::printf("%s seed %llu: %s", scenario.name.c_str(), static_cast<unsigned long long>(a.seed),
               result.success ? "success" : "FAILED");
@@ -101,7 +102,8 @@ void run_run(const RunArgs& a) {
   std::printf(", %d/%d objects in zone, max pairwise %.1f cm, %zu decisions (%.2f ms mean)\n",
               result.objects_in_zone, result.n_objects, 100.0 * result.max_pairwise_distance_m,
               result.loop.decisions.size(), result.decision_ms_mean);
-  std::printf("wrote %s/summary.json, log.csv, decisions.csv, plans.csv\n", a.out.c_str());
+  std::printf("wrote %s/summary.json, log.csv, decisions.csv, plans.csv, nozzle.csv\n",
+              a.out.c_str());
 }
 
 }  // namespace
@@ -113,8 +115,9 @@ void add_run_command(CLI::App& app) {
       "Run a scenario in closed loop in the MuJoCo twin: the CEM controller of section V (eq. 10)\n"
       "plans on the field model and the identified dynamics, aims the twin's nozzle, waits\n"
       "Delta T plus the settle time, observes, repeats until the task is done or time is up.\n"
-      "Writes DIR/summary.json, DIR/log.csv (trajectory CSV), DIR/decisions.csv and\n"
-      "DIR/plans.csv (what each decision perceived and predicted, per object).\n"
+      "Writes DIR/summary.json, DIR/log.csv (trajectory CSV), DIR/decisions.csv,\n"
+      "DIR/plans.csv (what each decision perceived and predicted, per object) and\n"
+      "DIR/nozzle.csv (the commands sent to the nozzle, t,pan_deg,tilt_deg).\n"
       "Scenarios: scenes/*.yaml (docs/scenario_schema.md).");
   sub->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
   sub->add_option("--out", args->out, "Output folder")->required();

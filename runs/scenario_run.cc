@@ -103,10 +103,14 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
     if (options.on_frame) options.on_frame(tw, frame, decisions_so_far);
   });
 
+  // The nozzle log: the start command, then each decision's as it is sent.
+  record_command(&result.nozzle_log, twin.time(), twin.commanded_orientation());
+
   LoopOptions loop_options;
   loop_options.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
   loop_options.time_limit_s = scenario.task.time_limit_s;
   result.loop = run_closed_loop(rig, controller, loop_options, [&](const DecisionRecord& d) {
+    record_command(&result.nozzle_log, rig.time(), twin.commanded_orientation());
     if (options.on_frame) decisions_so_far.push_back(d);
     if (options.on_progress) options.on_progress(rig.time(), loop_options.time_limit_s);
   });

@@ -17,6 +17,7 @@
 #include "controller/run_metrics.h"
 #include "models/air_field.h"
 #include "models/extended_model.h"
+#include "models/nozzle_log.h"
 #include "models/object_dynamics.h"
 #include "models/trajectory_data.h"
 #include "rigs/vision_perception.h"
@@ -71,6 +72,11 @@ struct ScenarioRunResult {
   /// Every object's true position every camera frame, with the commanded nozzle orientation:
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;
+  /// The commands sent to the twin's nozzle: the start orientation at the first frame's time,
+  /// then every decision's command at its time, as it changed (models/nozzle_log.h). The frame at
+  /// a decision's time was taken before the command was sent: log's row there holds the previous
+  /// command, the nozzle log's reading (in force from its time) the new one.
+  std::vector<NozzleCommand> nozzle_log;
 };
 
 /// The controller of `options` plans with an extended model (extended_model.json from the

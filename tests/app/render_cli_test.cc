@@ -1,7 +1,7 @@
-// `airtwin render` end to end: the dataset it writes (frames, truth.csv, calibration views, the
-// video and its sidecar), the same seed giving the same bytes, overlays kept off the frames vision
-// reads, and one clear line for a bad scenario or bad flags. (The renderer, overlay and video
-// writer themselves are tested in tests/renders.)
+// `airtwin render` end to end: the dataset it writes (frames, truth.csv, nozzle.csv, calibration
+// views, video and its sidecar), the same seed giving the same bytes, overlays kept off the frames
+// vision reads, and one clear line for a bad scenario or bad flags. (The renderer, overlay and
+// video writer themselves are tested in tests/renders.)
 
 #include <gtest/gtest.h>
 
@@ -78,6 +78,9 @@ TEST(RenderCli, WritesFramesTruthAndCalibrationSameSeedSameBytes) {
     ++rows;
   }
   EXPECT_EQ(rows, 18);
+  // nozzle.csv: the one command (the default pan 0, tilt 20 deg), from the first frame on.
+  EXPECT_EQ(read_text_file(d + "/a/nozzle.csv"),
+            "t,pan_deg,tilt_deg\n0.000000,0.000000,20.000000\n");
 
   // Again with the same seed: the same bytes, file by file.
   ASSERT_EQ(run_airtwin(quick + "--out " + d + "/b").exit_code, 0);

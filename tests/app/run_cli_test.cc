@@ -1,6 +1,7 @@
-// `airtwin run` end to end: the three files it writes (summary.json with the keys, the
-// trajectory-CSV log, decisions.csv), consistent with one another, and one clear line for bad
-// input. (The controller, the loop and whole runs are tested in tests/controller and tests/rigs.)
+// `airtwin run` end to end: the files it writes (summary.json with the keys, the
+// trajectory-CSV log, decisions.csv, plans.csv, nozzle.csv), consistent with one another, and one
+// clear line for bad input. (The controller, the loop and whole runs are tested in tests/controller
+// and tests/rigs.)
 
 #include <gtest/gtest.h>
 
@@ -15,6 +16,7 @@
 #include "common/units.h"
 #include "models/air_field.h"
 #include "models/nozzle_geometry.h"
+#include "models/nozzle_log.h"
 #include "models/trajectory_data.h"
 #include "tests/app/cli_runner.h"
 
@@ -95,6 +97,44 @@ TEST(RunCli, LineWritesSummaryLogAndDecisions) {
   }
   EXPECT_EQ(n_rows, j["decisions"].get<int>());
   EXPECT_NE(r.out.find("line seed 2: success"), std::string::npos) << r.out;
+
+  // nozzle.csv, the nozzle log `trajectories --nozzle` reads: a row at each decision that changed
+  // the command (decisions.csv), the command in force at every decision the one it chose, and at
+  // every other frame of log.csv the one log.csv recorded. (The frame at a decision's instant was
+  // taken before the command was sent: log.csv holds the previous command there.)
+  const NozzleLog nozzle = read_nozzle_log(d + "/nozzle.csv");
+  ASSERT_GE(nozzle.commands.size(), 2u);
+  EXPECT_EQ(nozzle.commands.front().t_s, truth.front().t_s);
+  std::istringstream decisions(slurp(d + "/decisions.csv"));
+  std::getline(decisions, row);
+  std::vector<double> decision_times;
+  while (std::getline(decisions, row)) {
+    std::vector<std::string> f;
+    std::istringstream cells(row);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    const double t = std::stod(f[0]);
+    decision_times.push_back(t);
+    const long i = nozzle.index_at(t);
+    ASSERT_GE(i, 0) << row;
+    EXPECT_NEAR(rad_to_deg(nozzle.commands[i].nozzle.pan_rad), std::stod(f[6]), 1e-9) << row;
+    EXPECT_NEAR(rad_to_deg(nozzle.commands[i].nozzle.tilt_rad), std::stod(f[7]), 1e-9) << row;
+  }
+  for (const NozzleCommand& c : nozzle.commands) {
+    EXPECT_NE(std::find(decision_times.begin(), decision_times.end(), c.t_s), decision_times.end())
+        << c.t_s;
+  }
+  int compared = 0;
+  for (const TrajectorySample& s : truth) {
+    const double t = std::stod(std::to_string(s.t_s));  // as the files print it, 6 decimals
+    if (std::find(decision_times.begin(), decision_times.end(), t) != decision_times.end()) {
+      continue;
+    }
+    const NozzleCommand& c = nozzle.commands[nozzle.index_at(s.t_s)];
+    EXPECT_NEAR(c.nozzle.pan_rad, s.nozzle.pan_rad, deg_to_rad(2e-6)) << s.t_s;
+    EXPECT_NEAR(c.nozzle.tilt_rad, s.nozzle.tilt_rad, deg_to_rad(2e-6)) << s.t_s;
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
 }
 
 TEST(RunCli, BadInputIsOneClearLine) {
