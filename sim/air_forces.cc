@@ -131,6 +131,8 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   k_body_.setZero(n);
   epsilon_body_.setZero(n);
   lift_body_.setZero(n);
+  object_field_.assign(objects_.size(), nullptr);
+  object_cfd_.assign(objects_.size(), nullptr);
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
 }
@@ -145,6 +147,25 @@ void AirForces::set_air(const CfdOrientedField& field, double jet_level) {
   cfd_ = &field;
   field_ = nullptr;
   jet_level_ = jet_level;
+}
+
+void AirForces::set_object_air(size_t o, const OrientedField& field) {
+  AIRTWIN_DEMAND(o < objects_.size() && cfd_ == nullptr);
+  object_field_[o] = &field;
+  any_object_air_ = true;
+}
+
+void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
+  AIRTWIN_DEMAND(o < objects_.size() && cfd_ != nullptr);
+  object_cfd_[o] = &field;
+  any_object_air_ = true;
+}
+
+void AirForces::clear_object_air() {
+  if (!any_object_air_) return;
+  std::fill(object_field_.begin(), object_field_.end(), nullptr);
+  std::fill(object_cfd_.begin(), object_cfd_.end(), nullptr);
+  any_object_air_ = false;
 }
 
 void AirForces::advance_turbulence() {
@@ -244,9 +265,6 @@ void AirForces::bind(const mjModel* m) {
 // The horizontal force on every body (f_body_W_) from the state in d; without `air`, only the
 // holding force against the floor's slope.
 void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
-  const Eigen::Vector2d s_W = !air              ? Eigen::Vector2d::Zero()
-                              : cfd_ != nullptr ? cfd_->stagnation_point()
-                                                : field_->stagnation_point();
   const double scale = air ? jet_level_ * params_.field_scale : 0.0;  // J f: air-speed factor
   const double g_normal = std::abs(m->opt.gravity[2]);
   const Eigen::Vector2d g_floor_W(m->opt.gravity[0], m->opt.gravity[1]);
@@ -276,21 +294,33 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     }
   }
   if (air && cfd_ != nullptr) {
-    const double reach2 = cfd_->pressure_radius_m() * cfd_->pressure_radius_m();
-    for (Eigen::Index col = 0; col < p_body_W_.cols(); ++col) {
-      const CfdSample a = cfd_->at(p_body_W_.col(col), z_body_[col]);
-      u_body_W_.col(col) = a.u_W;
-      k_body_[col] = a.k;
-      epsilon_body_[col] = a.epsilon;
-      // The pressure only matters near s; farther out it is not looked up.
-      if ((p_body_W_.col(col) - s_W).squaredNorm() < reach2) {
-        grad_p_body_W_.col(col) = cfd_->pressure_gradient_at(p_body_W_.col(col), z_body_[col]);
-      } else {
-        grad_p_body_W_.col(col).setZero();
+    for (size_t o = 0; o < objects_.size(); ++o) {
+      const CfdOrientedField& cfd = object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_;
+      const Eigen::Vector2d& s_W = cfd.stagnation_point();
+      const double reach2 = cfd.pressure_radius_m() * cfd.pressure_radius_m();
+      for (Eigen::Index col = static_cast<Eigen::Index>(first_body_[o]);
+           col < static_cast<Eigen::Index>(first_body_[o + 1]); ++col) {
+        const CfdSample a = cfd.at(p_body_W_.col(col), z_body_[col]);
+        u_body_W_.col(col) = a.u_W;
+        k_body_[col] = a.k;
+        epsilon_body_[col] = a.epsilon;
+        // The pressure only matters near s; farther out it is not looked up.
+        if ((p_body_W_.col(col) - s_W).squaredNorm() < reach2) {
+          grad_p_body_W_.col(col) = cfd.pressure_gradient_at(p_body_W_.col(col), z_body_[col]);
+        } else {
+          grad_p_body_W_.col(col).setZero();
+        }
       }
     }
-  } else if (air) {
+  } else if (air && !any_object_air_) {
     field_->velocities(p_body_W_, u_body_W_);
+  } else if (air) {
+    for (size_t o = 0; o < objects_.size(); ++o) {
+      const OrientedField& field = object_field_[o] != nullptr ? *object_field_[o] : *field_;
+      const Eigen::Index first = static_cast<Eigen::Index>(first_body_[o]);
+      const Eigen::Index n = static_cast<Eigen::Index>(first_body_[o + 1]) - first;
+      field.velocities(p_body_W_.middleCols(first, n), u_body_W_.middleCols(first, n));
+    }
   }
 
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -298,6 +328,12 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     PerObject& po = per_object_[o];
     const Eigen::Index first = static_cast<Eigen::Index>(first_body_[o]);
     const Eigen::Index n = static_cast<Eigen::Index>(obj.bodies.size());
+    // The stagnation point of the air this object is in.
+    const Eigen::Vector2d s_W =
+        !air ? Eigen::Vector2d::Zero()
+        : cfd_ != nullptr
+            ? (object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_).stagnation_point()
+            : (object_field_[o] != nullptr ? *object_field_[o] : *field_).stagnation_point();
 
     // The object's centre and velocity (area-weighted), and its turbulent air velocity.
     Eigen::Vector2d centre = Eigen::Vector2d::Zero(), v_obj = Eigen::Vector2d::Zero();

@@ -16,12 +16,21 @@ struct Twin::Impl {
         data(make_data(scene.model.get())),
         actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
         field(field_model.at(actuator.effective())),
-        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s) {
+        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s),
+        transport(p.cfd_air ? p.air_transport : AirTransportParameters::rigid(), p.scene.timestep_s,
+                  actuator.effective()) {
     if (p.cfd_air) cfd_field = p.cfd_air->at(actuator.effective());
+    // At most two lookups per object a step (sim/air_transport.h): no reallocation, so the
+    // pointers handed to the air forces stay valid through the step.
+    lagged_fields.reserve(2 * scene.objects.size());
+    lagged_cfd.reserve(2 * scene.objects.size());
   }
 
   void set_rig_joints();
   void refresh_field();
+  void set_object_air();
+  // The stagnation point of the orientation `steps` back, with its air built once per step.
+  Eigen::Vector2d lagged_stagnation_point(int steps);
   void check_state();
   std::string object_label(int body) const;
 
@@ -33,6 +42,10 @@ struct Twin::Impl {
   OrientedField field;
   std::optional<CfdOrientedField> cfd_field;  // the air when params.cfd_air is set
   AirForces air;
+  AirTransport transport;
+  // This step's airs of lagged orientations, by steps back (cleared every step).
+  std::vector<std::pair<int, OrientedField>> lagged_fields;
+  std::vector<std::pair<int, CfdOrientedField>> lagged_cfd;
   int64_t steps = 0;
   std::string last_warning;
 };
@@ -53,6 +66,49 @@ void Twin::Impl::refresh_field() {
   if (e.pan_rad != field.orientation().pan_rad || e.tilt_rad != field.orientation().tilt_rad) {
     field = field_model.at(e);
     if (cfd_field) cfd_field = params.cfd_air->at(e);
+  }
+}
+
+Eigen::Vector2d Twin::Impl::lagged_stagnation_point(int steps) {
+  if (steps == 0) return cfd_field ? cfd_field->stagnation_point() : field.stagnation_point();
+  if (cfd_field) {
+    for (const auto& [k, f] : lagged_cfd) {
+      if (k == steps) return f.stagnation_point();
+    }
+    lagged_cfd.emplace_back(steps, params.cfd_air->at(transport.at_lag(steps)));
+    return lagged_cfd.back().second.stagnation_point();
+  }
+  for (const auto& [k, f] : lagged_fields) {
+    if (k == steps) return f.stagnation_point();
+  }
+  lagged_fields.emplace_back(steps, field_model.at(transport.at_lag(steps)));
+  return lagged_fields.back().second.stagnation_point();
+}
+
+// Each object's air comes from the orientation whose wall jet has reached it: r from the
+// present s gives a first lag, r from that orientation's s the one used (sim/air_transport.h).
+void Twin::Impl::set_object_air() {
+  air.clear_object_air();
+  lagged_fields.clear();
+  lagged_cfd.clear();
+  if (!transport.enabled() || transport.steady()) return;
+  const Eigen::Vector2d s_now = lagged_stagnation_point(0);
+  for (size_t o = 0; o < scene.objects.size(); ++o) {
+    const double* x = data->xpos + 3 * scene.objects[o].root_body;
+    const Eigen::Vector2d p(x[0], x[1]);
+    const int first = transport.lag_steps((p - s_now).norm());
+    const int steps = transport.lag_steps((p - lagged_stagnation_point(first)).norm());
+    if (steps == 0) continue;
+    lagged_stagnation_point(steps);  // builds that orientation's air if not yet there
+    if (cfd_field) {
+      for (const auto& [k, f] : lagged_cfd) {
+        if (k == steps) air.set_object_air(o, f);
+      }
+    } else {
+      for (const auto& [k, f] : lagged_fields) {
+        if (k == steps) air.set_object_air(o, f);
+      }
+    }
   }
 }
 
@@ -110,6 +166,7 @@ Twin::Twin(const SceneSpec& spec, const TwinParameters& params, const AirFieldMo
   install_mujoco_handlers();
   params.nozzle.validate();
   params.air.validate();
+  params.air_transport.validate();
   if (params.nozzle.tilt_max_rad >= fold_tilt_rad(field_model.geometry())) {
     throw InputError("nozzle parameters: tilt_max_rad " +
                      std::to_string(rad_to_deg(params.nozzle.tilt_max_rad)) +
@@ -156,11 +213,13 @@ void Twin::step() {
   s.actuator.step();
   s.set_rig_joints();
   s.refresh_field();
+  s.transport.push(s.actuator.effective());
   if (s.cfd_field) {
     s.air.set_air(*s.cfd_field, s.actuator.jet_level());
   } else {
     s.air.set_air(s.field, s.actuator.jet_level());
   }
+  s.set_object_air();
   s.air.advance_turbulence();
   {
     AirForcesScope scope(s.scene.model.get(), &s.air);

@@ -24,6 +24,7 @@
 #include "models/air_field.h"
 #include "models/cfd_field.h"
 #include "sim/air_forces.h"
+#include "sim/air_transport.h"
 #include "sim/mujoco_runtime.h"
 #include "sim/nozzle_actuator.h"
 #include "sim/scene_builder.h"
@@ -36,6 +37,11 @@ struct TwinParameters {
   SceneParameters scene;
   NozzleActuatorParameters nozzle;
   AirForceParameters air;
+  /// The wall jet's transport lag in the CFD's air: each object feels the orientation whose air
+  /// has reached it (sim/air_transport.h); front_speed_mps 0 makes the floor pattern swing
+  /// rigidly. The analytical air (cfd_air null) mirrors the controller's model, which takes the
+  /// new field everywhere at once after the delay: there the pattern always swings rigidly.
+  AirTransportParameters air_transport;
   /// The air: the jet's CFD (shared, immutable; its tilt range must cover the nozzle's), or null
   /// for the analytical field of the field model the twin is built with.
   std::shared_ptr<const CfdField> cfd_air;
