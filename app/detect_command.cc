@@ -60,16 +60,6 @@ std::optional<double> sidecar_fps(const std::string& video) {
   return j["camera_rate_hz"].get<double>() / j["stride"].get<int>();
 }
 
-// One CSV row: six decimals everywhere but the frame and the id.
-void append_row(std::string& csv, int64_t frame, double t, int id, ObjectKind kind,
-                const Eigen::Vector2d& p_W, const Eigen::Vector2d& uv) {
-  char row[192];
-  std::snprintf(row, sizeof row, "%lld,%.6f,%d,%s,%.6f,%.6f,%.6f,%.6f\n",
-                static_cast<long long>(frame), t, id, object_kind_name(kind), p_W.x(), p_W.y(),
-                uv.x(), uv.y());
-  csv += row;
-}
-
 void run_detect(const DetectArgs& a) {
   // Flags first: a bad value is a usage error before any work.
   require_range(a.fps, 1e-3, 1e6, "--fps", "a frame rate > 0 in Hz");
@@ -108,15 +98,9 @@ void run_detect(const DetectArgs& a) {
   }
 
   // Frame by frame: detect, track, one row per detection in id order.
-  std::string csv = "frame,t,id,object,x,y,x_px,y_px\n";
+  std::string csv = kDetectionsCsvHeader;
   Frame frame;
   int64_t frames = 0, merged_blobs = 0;
-  struct Row {
-    int id;
-    ObjectKind kind;
-    Eigen::Vector2d p_W, uv;
-  };
-  std::vector<Row> rows;
   while (source.next(frame)) {
     if (frame.bgr.cols != camera.width_px || frame.bgr.rows != camera.height_px) {
       throw InputError(a.input + ": " + frame.name + " is " + std::to_string(frame.bgr.cols) +
@@ -126,17 +110,8 @@ void run_detect(const DetectArgs& a) {
     }
     const std::vector<Detection>& detections = detector.detect(frame.bgr);
     merged_blobs += detector.stats().merged_blobs;
-    const std::vector<Track>& tracks = tracker.update(frame.t_s, detections);
-    // The track of each detection (all of them are alive after the update), its kind by vote.
-    std::map<int, ObjectKind> kind_of;
-    for (const Track& t : tracks) kind_of[t.id] = t.kind;
-    rows.clear();
-    for (size_t j = 0; j < detections.size(); ++j) {
-      const int id = tracker.detection_ids()[j];
-      rows.push_back({id, kind_of.at(id), detections[j].p_W, detections[j].centre_px});
-    }
-    std::sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.id < y.id; });
-    for (const Row& r : rows) append_row(csv, frame.index, frame.t_s, r.id, r.kind, r.p_W, r.uv);
+    tracker.update(frame.t_s, detections);
+    csv += detection_rows_csv(tracker, detections, frame.index, frame.t_s);
     ++frames;
     if (progress) progress->update(static_cast<int>(frames));
   }

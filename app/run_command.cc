@@ -76,6 +76,7 @@ void run_run(const RunArgs& a) {
   write_text_file(a.out + "/decisions.csv", decisions_csv(result));
   write_text_file(a.out + "/plans.csv", plans_csv(result));
   write_text_file(a.out + "/nozzle.csv", nozzle_log_csv(result.nozzle_log));
+  if (a.setup.vision) write_text_file(a.out + "/detections.csv", result.vision_detections_csv);
 
   std::printf("%s seed %llu: %s", scenario.name.c_str(), static_cast<unsigned long long>(a.seed),
               result.success ? "success" : "FAILED");
@@ -102,8 +103,8 @@ void run_run(const RunArgs& a) {
   std::printf(", %d/%d objects in zone, max pairwise %.1f cm, %zu decisions (%.2f ms mean)\n",
               result.objects_in_zone, result.n_objects, 100.0 * result.max_pairwise_distance_m,
               result.loop.decisions.size(), result.decision_ms_mean);
-  std::printf("wrote %s/summary.json, log.csv, decisions.csv, plans.csv, nozzle.csv\n",
-              a.out.c_str());
+  std::printf("wrote %s/summary.json, log.csv, decisions.csv, plans.csv, nozzle.csv%s\n",
+              a.out.c_str(), a.setup.vision ? ", detections.csv" : "");
 }
 
 }  // namespace
@@ -117,7 +118,8 @@ void add_run_command(CLI::App& app) {
       "Delta T plus the settle time, observes, repeats until the task is done or time is up.\n"
       "Writes DIR/summary.json, DIR/log.csv (trajectory CSV), DIR/decisions.csv,\n"
       "DIR/plans.csv (what each decision perceived and predicted, per object) and\n"
-      "DIR/nozzle.csv (the commands sent to the nozzle, t,pan_deg,tilt_deg).\n"
+      "DIR/nozzle.csv (the commands sent to the nozzle, t,pan_deg,tilt_deg); with --vision\n"
+      "DIR/detections.csv (what the camera pipeline detected, as `detect` writes it).\n"
       "Scenarios: scenes/*.yaml (docs/scenario_schema.md).");
   sub->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
   sub->add_option("--out", args->out, "Output folder")->required();

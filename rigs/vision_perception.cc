@@ -24,6 +24,7 @@ struct VisionPerception::Impl {
   double total_ms = 0.0;
   double last_t_s = -1.0;
   int64_t duplicates = 0;
+  std::string detections_csv = kDetectionsCsvHeader;  // every processed frame's detections
 
   static TrackerOptions tracker_options(const CalibratedCamera& camera,
                                         const VisionPerceptionOptions& o) {
@@ -70,6 +71,7 @@ void VisionPerception::on_frame(const Twin& twin, int64_t frame_index) {
   m.renderer->render_into(twin.data(), frame_index, m.frame);
   const std::vector<Detection>& detections = m.detector.detect(m.frame);
   m.tracker.update(twin.time(), detections);
+  m.detections_csv += detection_rows_csv(m.tracker, detections, m.processed, twin.time());
   m.last_t_s = twin.time();
   ++m.processed;
   m.total_ms +=
@@ -119,6 +121,7 @@ TrackReport report_tracks(const std::vector<Track>& tracks, double t_s,
 }
 
 const TrackerCounters& VisionPerception::counters() const { return impl_->tracker.counters(); }
+const std::string& VisionPerception::detections_csv() const { return impl_->detections_csv; }
 int64_t VisionPerception::duplicates() const { return impl_->duplicates; }
 int64_t VisionPerception::frames_processed() const { return impl_->processed; }
 double VisionPerception::mean_frame_ms() const {

@@ -52,6 +52,10 @@ class VisionPerception final : public Perception {
   /// Tracks withheld from observations as duplicates of an older one (min_separation_m), summed
   /// over the observations.
   int64_t duplicates() const;
+  /// The detections of every processed frame as `detect` writes them (docs/data_formats.md,
+  /// "Detections"): `frame` the index of the processed frame (0, 1, ... at rate_hz), `t` its time
+  /// (s). The tracker ends a track after max(2, rate_hz rounded) missed processed frames.
+  const std::string& detections_csv() const;
   /// Frames processed and the mean wall-clock ms per frame (render + detection + tracking).
   int64_t frames_processed() const;
   double mean_frame_ms() const;

@@ -120,6 +120,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
     result.vision_frame_ms = vision->mean_frame_ms();
     result.vision_counters = vision->counters();
     result.vision_duplicates = vision->duplicates();
+    result.vision_detections_csv = vision->detections_csv();
   }
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();

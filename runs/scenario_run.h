@@ -69,6 +69,9 @@ struct ScenarioRunResult {
   double vision_frame_ms = 0.0;
   TrackerCounters vision_counters;
   int64_t vision_duplicates = 0;  ///< tracks withheld as duplicates (rigs/vision_perception.h)
+  /// With vision: the detections of every processed frame, as `detect` writes them
+  /// (VisionPerception::detections_csv); empty otherwise.
+  std::string vision_detections_csv;
   /// Every object's true position every camera frame, with the commanded nozzle orientation:
   /// the trajectory CSV of docs/data_formats.md (group = scenario name).
   TrajectorySet log;

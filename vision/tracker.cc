@@ -3,7 +3,9 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "common/errors.h"
@@ -268,6 +270,27 @@ const std::vector<Track>& Tracker::update(double t_s, const std::vector<Detectio
     if (counters_.frames > 1 && near_edge(detections[j].centre_px)) ++counters_.entered_view;
   }
   return tracks_;
+}
+
+std::string detection_rows_csv(const Tracker& tracker, const std::vector<Detection>& detections,
+                               int64_t frame, double t_s) {
+  AIRTWIN_DEMAND(tracker.detection_ids().size() == detections.size());
+  // The track of each detection (all of them are alive after the update) and its kind by vote.
+  std::map<int, ObjectKind> kind_of;
+  for (const Track& t : tracker.tracks()) kind_of[t.id] = t.kind;
+  std::map<int, size_t> detection_of_id;
+  for (size_t j = 0; j < detections.size(); ++j) detection_of_id[tracker.detection_ids()[j]] = j;
+  // One row per detection, in id order.
+  std::string rows;
+  char row[192];
+  for (const auto& [id, j] : detection_of_id) {
+    const Detection& d = detections[j];
+    std::snprintf(row, sizeof row, "%lld,%.6f,%d,%s,%.6f,%.6f,%.6f,%.6f\n",
+                  static_cast<long long>(frame), t_s, id, object_kind_name(kind_of.at(id)),
+                  d.p_W.x(), d.p_W.y(), d.centre_px.x(), d.centre_px.y());
+    rows += row;
+  }
+  return rows;
 }
 
 }  // namespace airtwin

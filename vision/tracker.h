@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <string>
 #include <vector>
 
 #include "vision/object_detector.h"
@@ -130,6 +131,15 @@ class Tracker {
   bool started_ = false;
   double last_t_s_ = 0.0;
 };
+
+/// The header of the detections CSV (docs/data_formats.md, "Detections"; `detect --out`).
+inline constexpr const char* kDetectionsCsvHeader = "frame,t,id,object,x,y,x_px,y_px\n";
+
+/// The detections CSV's rows of one frame: `detections` as `tracker`'s last update took them at
+/// time t_s (s), `frame` the frame's 0-based index in its input. One row per detection, in id
+/// order; `object` the track's kind by vote; six decimals in every number but frame and id.
+std::string detection_rows_csv(const Tracker& tracker, const std::vector<Detection>& detections,
+                               int64_t frame, double t_s);
 
 /// Minimum-cost assignment of rows to columns of a rectangular cost matrix (Hungarian algorithm,
 /// O(n^3)). Returns for each row its column, or -1 when the matrix has more rows than columns and

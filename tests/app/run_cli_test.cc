@@ -137,6 +137,51 @@ TEST(RunCli, LineWritesSummaryLogAndDecisions) {
   EXPECT_GT(compared, 100);
 }
 
+// With --vision the run writes what its camera pipeline detected (detections.csv, at the
+// detection rate); joined with nozzle.csv by `trajectories`, it gives the run's log.csv back: the
+// twin's positions within the detection's few millimetres, the command in force at every frame
+// but those at a decision's instant (taken before the command was sent).
+TEST(RunCli, VisionRunGivesDetectionsAndNozzleLogThatTrajectoriesJoins) {
+  const std::string d = scratch_dir("run_vision_pair");
+  std::string text = slurp(kScenes + "line.yaml");
+  text.replace(text.find("time_limit_s: 120"), 17, "time_limit_s: 8");
+  std::ofstream(d + "/line_short.yaml") << text;
+  const auto r =
+      run_airtwin("run " + d + "/line_short.yaml --seed 2 --vision --quiet --out " + d + "/run");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("nozzle.csv, detections.csv"), std::string::npos) << r.out;
+  // The vision tracker coasts 10 processed frames at 10 Hz: --max-missed 10.
+  const auto join = run_airtwin("trajectories " + d + "/run/detections.csv --nozzle " + d +
+                                "/run/nozzle.csv --max-missed 10 --out " + d + "/data.csv");
+  ASSERT_EQ(join.exit_code, 0) << join.err;
+  EXPECT_NE(join.out.find("in 1 tracks"), std::string::npos) << join.out;
+  const TrajectorySet data = read_trajectory_csv(d + "/data.csv");
+  const TrajectorySet log = read_trajectory_csv(d + "/run/log.csv");
+  const NozzleLog nozzle = read_nozzle_log(d + "/run/nozzle.csv");
+  ASSERT_EQ(data.trajectories.size(), 1u);
+  ASSERT_EQ(log.trajectories.size(), 1u);
+  const auto& truth = log.trajectories[0].samples;
+  const auto& seen = data.trajectories[0].samples;
+  // Every processed frame (10 Hz over 8 s) was detected.
+  EXPECT_EQ(seen.size(), 81u);
+  int compared = 0;
+  for (const TrajectorySample& s : seen) {
+    const auto at = std::min_element(truth.begin(), truth.end(), [&](const auto& a, const auto& b) {
+      return std::fabs(a.t_s - s.t_s) < std::fabs(b.t_s - s.t_s);
+    });
+    ASSERT_NEAR(at->t_s, s.t_s, 1e-9);
+    EXPECT_LT((at->p_W - s.p_W).norm(), 0.003) << s.t_s;
+    const bool decision_instant =
+        std::any_of(nozzle.commands.begin(), nozzle.commands.end(),
+                    [&](const NozzleCommand& c) { return c.t_s == s.t_s; });
+    if (decision_instant) continue;
+    EXPECT_NEAR(s.nozzle.pan_rad, at->nozzle.pan_rad, deg_to_rad(2e-6)) << s.t_s;
+    EXPECT_NEAR(s.nozzle.tilt_rad, at->nozzle.tilt_rad, deg_to_rad(2e-6)) << s.t_s;
+    ++compared;
+  }
+  EXPECT_GT(compared, 70);
+}
+
 TEST(RunCli, BadInputIsOneClearLine) {
   const std::string d = scratch_dir("run_bad");
   const auto missing = run_airtwin("run " + d + "/none.yaml --out " + d + "/o");
