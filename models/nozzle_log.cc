@@ -22,6 +22,15 @@ std::string NozzleLog::where(size_t i) const {
   return source + ":" + (i < lines.size() ? std::to_string(lines[i]) : "?");
 }
 
+NozzleOrientation nozzle_orientation_of_row(const CsvTable& csv, size_t row) {
+  const double pan = csv.number(row, "pan_deg"), tilt = csv.number(row, "tilt_deg");
+  if (!(tilt >= 0 && tilt < 90)) {
+    throw InputError(csv.where(row) + ": column 'tilt_deg': expected a tilt in [0, 90) deg, got " +
+                     csv.text(row, "tilt_deg"));
+  }
+  return {deg_to_rad(pan), deg_to_rad(tilt)};
+}
+
 NozzleLog read_nozzle_log(const std::string& path) {
   return parse_nozzle_log(read_text_file(path), path);
 }
@@ -34,13 +43,7 @@ NozzleLog parse_nozzle_log(const std::string& text, const std::string& source) {
   for (size_t row = 0; row < csv.rows(); ++row) {
     NozzleCommand c;
     c.t_s = csv.number(row, "t");
-    const double pan = csv.number(row, "pan_deg"), tilt = csv.number(row, "tilt_deg");
-    if (!(tilt >= 0 && tilt < 90)) {
-      throw InputError(csv.where(row) +
-                       ": column 'tilt_deg': expected a tilt in [0, 90) deg, got " +
-                       csv.text(row, "tilt_deg"));
-    }
-    c.nozzle = {deg_to_rad(pan), deg_to_rad(tilt)};
+    c.nozzle = nozzle_orientation_of_row(csv, row);
     // Times strictly increasing: a repeated time leaves two commands for one instant.
     if (!log.commands.empty() && !(c.t_s > log.commands.back().t_s)) {
       const bool repeated = c.t_s == log.commands.back().t_s;

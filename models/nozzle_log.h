@@ -35,6 +35,13 @@ struct NozzleLog {
   std::string where(size_t i) const;
 };
 
+class CsvTable;
+
+/// The nozzle command of a CSV row's `pan_deg` and `tilt_deg` columns (radians): finite numbers,
+/// tilt in [0, 90) deg. Throws InputError naming the file, line, column and value otherwise. The
+/// nozzle log and the trajectory CSV read their commands with it.
+NozzleOrientation nozzle_orientation_of_row(const CsvTable& csv, size_t row);
+
 /// Reads and validates a nozzle log: the header (exactly the three columns), finite numbers, tilt
 /// in [0, 90) deg, t strictly increasing (a repeated or earlier time is an error naming both
 /// lines), at least one row. Throws InputError naming the file, the line and the column.

@@ -7,6 +7,7 @@
 #include "common/csv.h"
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/nozzle_log.h"
 
 namespace airtwin {
 
@@ -42,13 +43,7 @@ TrajectorySet parse_trajectory_csv(const std::string& text, const std::string& s
     TrajectorySample s;
     s.t_s = csv.number(row, "t");
     s.p_W = {csv.number(row, "x"), csv.number(row, "y")};
-    const double pan = csv.number(row, "pan_deg"), tilt = csv.number(row, "tilt_deg");
-    if (!(tilt >= 0 && tilt < 90)) {
-      throw InputError(csv.where(row) +
-                       ": column 'tilt_deg': expected a tilt in [0, 90) deg, got " +
-                       csv.text(row, "tilt_deg"));
-    }
-    s.nozzle = {deg_to_rad(pan), deg_to_rad(tilt)};
+    s.nozzle = nozzle_orientation_of_row(csv, row);
 
     auto [it, fresh] = index_of.try_emplace(id, set.trajectories.size());
     if (fresh) {
