@@ -21,7 +21,12 @@
 //   BM_TwinStep/tracers_25_cfd: the 25 tracers in the CFD's air (data/cfd/) instead of the
 //                            analytical field's; its counter air_share is the share of a twin step
 //                            spent in the air callback (the same AirForces::apply on the twin's
-//                            state, timed alone; issue target <= 3 %).
+//                            state, timed alone; issue target <= 3 %). The nozzle program
+//                            re-aims every second, so the wall jet's transport lag
+//                            (sim/air_transport.h) is always at work: each tracer's air comes
+//                            from its own lagged orientation.
+//   BM_TwinStep/tracers_25_cfd_rigid: the same with the rigid floor pattern (no lag), the
+//                            reference the lag's cost is read against in the same run.
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the issue's target is >= 0.8 with rtf >= 10 on the
 // 25-tracer scene), ratio_free (twin / free-running bare step rate).
@@ -102,17 +107,19 @@ std::shared_ptr<const CfdField> shipped_cfd() {
   return cfd;
 }
 
-TwinParameters twin_parameters(double timestep_s, bool cfd) {
+// `rigid`: the CFD's floor pattern swings rigidly with the nozzle (no transport lag).
+TwinParameters twin_parameters(double timestep_s, bool cfd, bool rigid = false) {
   TwinParameters p;
   p.scene.timestep_s = timestep_s;
   if (cfd) p.cfd_air = shipped_cfd();
+  if (rigid) p.air_transport = AirTransportParameters::rigid();
   p.jet_on_at_start = true;
   p.initial_orientation = program(0.0);
   return p;
 }
 
-Twin make_twin(const SceneSpec& spec, double timestep_s, bool cfd = false) {
-  TwinParameters p = twin_parameters(timestep_s, cfd);
+Twin make_twin(const SceneSpec& spec, double timestep_s, bool cfd = false, bool rigid = false) {
+  TwinParameters p = twin_parameters(timestep_s, cfd, rigid);
   Twin twin(spec, p, field_model(), 7);
   twin.settle_jet();
   return twin;
@@ -129,12 +136,12 @@ void copy_state(const mjModel* m, const mjData* from, mjData* to) {
 }
 
 void run(benchmark::State& state, const SceneSpec& spec,
-         double timestep_s = SceneParameters{}.timestep_s, bool cfd = false) {
+         double timestep_s = SceneParameters{}.timestep_s, bool cfd = false, bool rigid = false) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
   };
-  Twin twin = make_twin(spec, timestep_s, cfd);
+  Twin twin = make_twin(spec, timestep_s, cfd, rigid);
   const mjModel* m = twin.model();
   DataPtr bare = make_data(m);
   // The air callback alone, on the twin's state: a second AirForces of the same objects.
@@ -179,7 +186,7 @@ void run(benchmark::State& state, const SceneSpec& spec,
     steps += kChunkSteps;
     if (twin.time() >= kEpisode_s) {
       state.PauseTiming();
-      twin = make_twin(spec, timestep_s);
+      twin = make_twin(spec, timestep_s, cfd, rigid);
       m = twin.model();
       bare = make_data(m);
       state.ResumeTiming();
@@ -201,6 +208,9 @@ void BM_TwinStep_mixed_12(benchmark::State& state) { run(state, mixed_12()); }
 void BM_TwinStep_tracers_25_cfd(benchmark::State& state) {
   run(state, tracers_25(), SceneParameters{}.timestep_s, true);
 }
+void BM_TwinStep_tracers_25_cfd_rigid(benchmark::State& state) {
+  run(state, tracers_25(), SceneParameters{}.timestep_s, true, true);
+}
 
 BENCHMARK(BM_TwinStep_tracers_25)
     ->Name("BM_TwinStep/tracers_25")
@@ -216,6 +226,10 @@ BENCHMARK(BM_TwinStep_tracer_1)
     ->MinTime(1.0);
 BENCHMARK(BM_TwinStep_tracers_25_cfd)
     ->Name("BM_TwinStep/tracers_25_cfd")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK(BM_TwinStep_tracers_25_cfd_rigid)
+    ->Name("BM_TwinStep/tracers_25_cfd_rigid")
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_mixed_12)
