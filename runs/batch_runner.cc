@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/parallel_for.h"
+#include "models/nozzle_log.h"
 #include "models/trajectory_data.h"
 #include "sim/mujoco_runtime.h"
 
@@ -33,7 +34,8 @@ RunRecord run_and_commit(const BatchPlan& plan, const AirFieldModel& field, cons
     const ScenarioRunResult result = run_scenario(scenario, field, run_options);
     json = record_json(result, time_limit_s, wall_s());
     if (options.keep_logs) {
-      logs = RunLogs{trajectory_csv(result.log), decisions_csv(result), plans_csv(result)};
+      logs = RunLogs{trajectory_csv(result.log), decisions_csv(result), plans_csv(result),
+                     nozzle_log_csv(result.nozzle_log)};
     }
   } catch (const SimulationError& e) {
     json = failed_record_json(key, static_cast<int>(scenario.scene.objects.size()), time_limit_s,

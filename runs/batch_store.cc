@@ -95,6 +95,9 @@ void BatchStore::commit(const RunKey& key, const std::string& record_json,
     if (!logs->plans_csv.empty()) {
       write_file_atomically(run_file(dir_, key, ".plans.csv"), logs->plans_csv);
     }
+    if (!logs->nozzle_csv.empty()) {
+      write_file_atomically(run_file(dir_, key, ".nozzle.csv"), logs->nozzle_csv);
+    }
   }
   write_file_atomically(record_path(key), record_json);
 }
@@ -105,10 +108,12 @@ void BatchStore::copy_run(const BatchStore& from, const RunKey& key) const {
   const std::string log = run_file(from.dir_, key, ".log.csv");
   if (fs::is_regular_file(log, ec)) {
     logs = RunLogs{read_text_file(log), read_text_file(run_file(from.dir_, key, ".decisions.csv")),
-                   ""};
-    // plans.csv is newer than the other two: a batch made before it has none.
+                   "", ""};
+    // plans.csv and nozzle.csv are newer than the other two: a batch made before has none.
     const std::string plans = run_file(from.dir_, key, ".plans.csv");
     if (fs::is_regular_file(plans, ec)) logs->plans_csv = read_text_file(plans);
+    const std::string nozzle = run_file(from.dir_, key, ".nozzle.csv");
+    if (fs::is_regular_file(nozzle, ec)) logs->nozzle_csv = read_text_file(nozzle);
   }
   commit(key, read_text_file(from.record_path(key)), logs ? &*logs : nullptr);
 }

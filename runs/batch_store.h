@@ -23,6 +23,7 @@ struct RunLogs {
   std::string log_csv;
   std::string decisions_csv;
   std::string plans_csv;
+  std::string nozzle_csv;  ///< the commands sent to the nozzle (models/nozzle_log.h)
 };
 
 class BatchStore {

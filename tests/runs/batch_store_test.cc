@@ -98,18 +98,20 @@ TEST(BatchStore, ReopeningRemovesWhatAKilledWriterLeft) {
 TEST(BatchStore, CopiesARunWithItsLogs) {
   const std::string a = fresh_scratch_dir("copy_a"), b = fresh_scratch_dir("copy_b");
   const BatchStore from(a, manifest(2)), to(b, manifest(2));
-  RunLogs logs{"log\n", "decisions\n", "plans\n"};
+  RunLogs logs{"log\n", "decisions\n", "plans\n", "nozzle\n"};
   from.commit({"line", 2}, record(2), &logs);
   to.copy_run(from, {"line", 2});
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.json"), record(2));
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.decisions.csv"), "decisions\n");
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.plans.csv"), "plans\n");
-  // A run logged before plans.csv existed is copied without one.
-  RunLogs old_logs{"log\n", "decisions\n", ""};
+  EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.nozzle.csv"), "nozzle\n");
+  // A run logged before plans.csv and nozzle.csv existed is copied without them.
+  RunLogs old_logs{"log\n", "decisions\n", "", ""};
   from.commit({"line", 1}, record(1), &old_logs);
   to.copy_run(from, {"line", 1});
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-1.decisions.csv"), "decisions\n");
   EXPECT_FALSE(fs::exists(b + "/runs/line/seed-1.plans.csv"));
+  EXPECT_FALSE(fs::exists(b + "/runs/line/seed-1.nozzle.csv"));
 }
 
 }  // namespace
