@@ -131,7 +131,6 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   k_body_.setZero(n);
   epsilon_body_.setZero(n);
   lift_body_.setZero(n);
-  object_field_.assign(objects_.size(), nullptr);
   object_cfd_.assign(objects_.size(), nullptr);
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
@@ -149,12 +148,6 @@ void AirForces::set_air(const CfdOrientedField& field, double jet_level) {
   jet_level_ = jet_level;
 }
 
-void AirForces::set_object_air(size_t o, const OrientedField& field) {
-  AIRTWIN_DEMAND(o < objects_.size() && cfd_ == nullptr);
-  object_field_[o] = &field;
-  any_object_air_ = true;
-}
-
 void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
   AIRTWIN_DEMAND(o < objects_.size() && cfd_ != nullptr);
   object_cfd_[o] = &field;
@@ -163,7 +156,6 @@ void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
 
 void AirForces::clear_object_air() {
   if (!any_object_air_) return;
-  std::fill(object_field_.begin(), object_field_.end(), nullptr);
   std::fill(object_cfd_.begin(), object_cfd_.end(), nullptr);
   any_object_air_ = false;
 }
@@ -312,15 +304,8 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
         }
       }
     }
-  } else if (air && !any_object_air_) {
-    field_->velocities(p_body_W_, u_body_W_);
   } else if (air) {
-    for (size_t o = 0; o < objects_.size(); ++o) {
-      const OrientedField& field = object_field_[o] != nullptr ? *object_field_[o] : *field_;
-      const Eigen::Index first = static_cast<Eigen::Index>(first_body_[o]);
-      const Eigen::Index n = static_cast<Eigen::Index>(first_body_[o + 1]) - first;
-      field.velocities(p_body_W_.middleCols(first, n), u_body_W_.middleCols(first, n));
-    }
+    field_->velocities(p_body_W_, u_body_W_);
   }
 
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -330,10 +315,9 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     const Eigen::Index n = static_cast<Eigen::Index>(obj.bodies.size());
     // The stagnation point of the air this object is in.
     const Eigen::Vector2d s_W =
-        !air ? Eigen::Vector2d::Zero()
-        : cfd_ != nullptr
-            ? (object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_).stagnation_point()
-            : (object_field_[o] != nullptr ? *object_field_[o] : *field_).stagnation_point();
+        !air              ? Eigen::Vector2d::Zero()
+        : cfd_ != nullptr ? (object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_).stagnation_point()
+                          : field_->stagnation_point();
 
     // The object's centre and velocity (area-weighted), and its turbulent air velocity.
     Eigen::Vector2d centre = Eigen::Vector2d::Zero(), v_obj = Eigen::Vector2d::Zero();

@@ -127,11 +127,9 @@ class AirForces {
   void set_air(const OrientedField& field, double jet_level);
   /// The same with the CFD's air (its mean velocity and turbulence, see the top of this file).
   void set_air(const CfdOrientedField& field, double jet_level);
-  /// Object o feels the air of `field` instead of the common one until clear_object_air(): the
-  /// wall jet's transport lag gives each object the orientation whose air has reached it
-  /// (sim/air_transport.h). `field` must outlive the next apply() and be of the kind (analytical
-  /// or CFD) of the common air.
-  void set_object_air(size_t o, const OrientedField& field);
+  /// In the CFD's air, object o feels `field` instead of the common air until
+  /// clear_object_air(): the wall jet's transport lag gives each object the orientation whose air
+  /// has reached it (sim/air_transport.h). `field` must outlive the next apply().
   void set_object_air(size_t o, const CfdOrientedField& field);
   /// Every object feels the common air again.
   void clear_object_air();
@@ -183,8 +181,7 @@ class AirForces {
   std::vector<RandomStream> streams_;      // turbulence, one per object
   const OrientedField* field_ = nullptr;   // the analytical air, or
   const CfdOrientedField* cfd_ = nullptr;  // the CFD's
-  // Per object: its own air (set_object_air), or null for the common one above.
-  std::vector<const OrientedField*> object_field_;
+  // Per object in the CFD's air: its own air (set_object_air), or null for the common one.
   std::vector<const CfdOrientedField*> object_cfd_;
   bool any_object_air_ = false;
   double jet_level_ = 0.0;

@@ -22,15 +22,14 @@ struct Twin::Impl {
     if (p.cfd_air) cfd_field = p.cfd_air->at(actuator.effective());
     // At most two lookups per object a step (sim/air_transport.h): no reallocation, so the
     // pointers handed to the air forces stay valid through the step.
-    lagged_fields.reserve(2 * scene.objects.size());
     lagged_cfd.reserve(2 * scene.objects.size());
   }
 
   void set_rig_joints();
   void refresh_field();
   void set_object_air();
-  // The stagnation point of the orientation `steps` back, with its air built once per step.
-  Eigen::Vector2d lagged_stagnation_point(int steps);
+  // The CFD's air of the orientation `steps` back (> 0), built once per step.
+  const CfdOrientedField& lagged_cfd_air(int steps);
   void check_state();
   std::string object_label(int body) const;
 
@@ -43,8 +42,7 @@ struct Twin::Impl {
   std::optional<CfdOrientedField> cfd_field;  // the air when params.cfd_air is set
   AirForces air;
   AirTransport transport;
-  // This step's airs of lagged orientations, by steps back (cleared every step).
-  std::vector<std::pair<int, OrientedField>> lagged_fields;
+  // This step's CFD airs of lagged orientations, by steps back (cleared every step).
   std::vector<std::pair<int, CfdOrientedField>> lagged_cfd;
   int64_t steps = 0;
   std::string last_warning;
@@ -69,46 +67,29 @@ void Twin::Impl::refresh_field() {
   }
 }
 
-Eigen::Vector2d Twin::Impl::lagged_stagnation_point(int steps) {
-  if (steps == 0) return cfd_field ? cfd_field->stagnation_point() : field.stagnation_point();
-  if (cfd_field) {
-    for (const auto& [k, f] : lagged_cfd) {
-      if (k == steps) return f.stagnation_point();
-    }
-    lagged_cfd.emplace_back(steps, params.cfd_air->at(transport.at_lag(steps)));
-    return lagged_cfd.back().second.stagnation_point();
+const CfdOrientedField& Twin::Impl::lagged_cfd_air(int steps) {
+  for (const auto& [k, f] : lagged_cfd) {
+    if (k == steps) return f;
   }
-  for (const auto& [k, f] : lagged_fields) {
-    if (k == steps) return f.stagnation_point();
-  }
-  lagged_fields.emplace_back(steps, field_model.at(transport.at_lag(steps)));
-  return lagged_fields.back().second.stagnation_point();
+  lagged_cfd.emplace_back(steps, params.cfd_air->at(transport.at_lag(steps)));
+  return lagged_cfd.back().second;
 }
 
 // Each object's air comes from the orientation whose wall jet has reached it: r from the
 // present s gives a first lag, r from that orientation's s the one used (sim/air_transport.h).
+// The transport is enabled in the CFD's air only (TwinParameters::air_transport).
 void Twin::Impl::set_object_air() {
   air.clear_object_air();
-  lagged_fields.clear();
   lagged_cfd.clear();
-  if (!transport.enabled() || transport.steady()) return;
-  const Eigen::Vector2d s_now = lagged_stagnation_point(0);
+  if (!cfd_field || !transport.enabled() || transport.steady()) return;
+  const Eigen::Vector2d s_now = cfd_field->stagnation_point();
   for (size_t o = 0; o < scene.objects.size(); ++o) {
     const double* x = data->xpos + 3 * scene.objects[o].root_body;
     const Eigen::Vector2d p(x[0], x[1]);
     const int first = transport.lag_steps((p - s_now).norm());
-    const int steps = transport.lag_steps((p - lagged_stagnation_point(first)).norm());
-    if (steps == 0) continue;
-    lagged_stagnation_point(steps);  // builds that orientation's air if not yet there
-    if (cfd_field) {
-      for (const auto& [k, f] : lagged_cfd) {
-        if (k == steps) air.set_object_air(o, f);
-      }
-    } else {
-      for (const auto& [k, f] : lagged_fields) {
-        if (k == steps) air.set_object_air(o, f);
-      }
-    }
+    const Eigen::Vector2d s_first = first == 0 ? s_now : lagged_cfd_air(first).stagnation_point();
+    const int steps = transport.lag_steps((p - s_first).norm());
+    if (steps > 0) air.set_object_air(o, lagged_cfd_air(steps));
   }
 }
 
