@@ -72,6 +72,8 @@ OrientedRays AirFieldModel::rays_at(const NozzleOrientation& o) const {
   const Eigen::Vector2d direction(std::cos(o.pan_rad), std::sin(o.pan_rad));
   f.c_W_ = rho_c * direction;
   f.s_W_ = stagnation_radius(geometry_, rho_c) * direction;
+  f.cos_pan_ = direction.x();
+  f.sin_pan_ = direction.y();
   // Makima in tilt, clamped to the fitted range: one set of Hermite weights serves all profiles.
   const std::vector<double>& tilts = table_.tilts_rad();
   double t;
@@ -117,6 +119,42 @@ FieldCoefficients OrientedRays::coefficients(double alpha_rad) const {
   const FieldCoefficients a = model_->profile(*this, k);
   const FieldCoefficients b = model_->profile(*this, k + 1 < FieldTable::kAlphaBins ? k + 1 : 0);
   return {a.b1 + w * (b.b1 - a.b1), a.b2 + w * (b.b2 - a.b2), a.b3 + w * (b.b3 - a.b3)};
+}
+
+namespace {
+
+// OrientedField::evaluate_block's steps for one point; `profile(k)` gives the profile of 1-degree
+// bin k in [0, 360] (360 is bin 0 again).
+template <typename Profile>
+Eigen::Vector2d point_velocity(const Eigen::Vector2d& p_W, const Eigen::Vector2d& s_W,
+                               double cos_pan, double sin_pan, const Profile& profile) {
+  const double dx = p_W.x() - s_W.x();
+  const double dy = p_W.y() - s_W.y();
+  const double r = std::sqrt(dx * dx + dy * dy);
+  if (!(r > 0.0)) return Eigen::Vector2d::Zero();
+  const double along = cos_pan * dx + sin_pan * dy;
+  const double across = cos_pan * dy - sin_pan * dx;
+  const double u = fast_atan2(across, along) * kBinsPerRad;  // (-180, 180]
+  const double bin = u < 0.0 ? u + FieldTable::kAlphaBins : u;
+  int k = static_cast<int>(bin);
+  k = k < FieldTable::kAlphaBins ? k : FieldTable::kAlphaBins - 1;
+  const double w = bin - k;
+  const FieldCoefficients a = profile(k);
+  const FieldCoefficients b = profile(k + 1);
+  const double b1 = a.b1 + w * (b.b1 - a.b1);
+  const double b2r = (a.b2 + w * (b.b2 - a.b2)) * r;
+  const double b3r = (a.b3 + w * (b.b3 - a.b3)) * r;
+  const double speed = b1 * (fast_exp(b2r) - fast_exp(b3r));
+  const double inv = 1.0 / r;
+  return {speed * (dx * inv), speed * (dy * inv)};
+}
+
+}  // namespace
+
+Eigen::Vector2d OrientedRays::velocity(const Eigen::Vector2d& p_W) const {
+  return point_velocity(p_W, s_W_, cos_pan_, sin_pan_, [this](int k) {
+    return model_->profile(*this, k < FieldTable::kAlphaBins ? k : 0);
+  });
 }
 
 FieldCoefficients OrientedField::coefficients(double alpha_rad) const {
@@ -194,9 +232,9 @@ double OrientedField::speed(const Eigen::Vector2d& p_W) const {
 }
 
 Eigen::Vector2d OrientedField::velocity(const Eigen::Vector2d& p_W) const {
-  double v, ux, uy;
-  evaluate_block(&p_W.x(), &p_W.y(), 1, &v, &ux, &uy);
-  return {v * ux, v * uy};
+  // One point: the scalar steps, not the block kernel (its setup costs more than the point).
+  return point_velocity(p_W, s_W_, cos_pan_, sin_pan_,
+                        [this](int k) -> const FieldCoefficients& { return ring_[k]; });
 }
 
 void OrientedField::speeds(const Eigen::Ref<const Eigen::Matrix2Xd>& p_W,

@@ -43,6 +43,10 @@ class OrientedRays {
   /// The eq. (3) profile in direction alpha_rad (from downstream): the two neighbouring 1-degree
   /// profiles interpolated in tilt, then linearly in alpha. Equals OrientedField::coefficients.
   FieldCoefficients coefficients(double alpha_rad) const;
+  /// Air velocity (m/s, world frame) at floor point p_W (m), from the two profiles around its
+  /// direction: OrientedField::velocity to rounding (FMA contraction may differ), without
+  /// building the 360 profiles. For a few points per orientation, as when the nozzle moves.
+  Eigen::Vector2d velocity(const Eigen::Vector2d& p_W) const;
   /// The full field of this orientation (AirFieldModel::at).
   OrientedField field() const;
 
@@ -53,6 +57,7 @@ class OrientedRays {
   double coefficient_tilt_rad_ = 0.0;
   Eigen::Vector2d c_W_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d s_W_ = Eigen::Vector2d::Zero();
+  double cos_pan_ = 1.0, sin_pan_ = 0.0;  // rotation into the jet frame, as OrientedField's
   // Makima in tilt: the table's interval and the Hermite weights h00, h10, h01, h11 in it.
   size_t tilt_interval_ = 0;
   std::array<double, 4> tilt_weights_{};

@@ -31,6 +31,12 @@ void DiscrepancyOptions::validate() const {
   if (residual_stride < 1) throw FieldError("discrepancy.residual_stride", "must be >= 1 frame");
   if (!(alpha > 0.0 && alpha < 1.0)) throw FieldError("discrepancy.alpha", "must be in (0, 1)");
   if (max_found < 1) throw FieldError("discrepancy.max_found", "must be >= 1");
+  if (!(std::isfinite(predictor_step_s) && predictor_step_s > 0.0 && predictor_step_s <= 0.05)) {
+    throw FieldError("discrepancy.predictor_step_s", "must be in (0, 0.05] s");
+  }
+  if (!(screen_step_s >= predictor_step_s && screen_step_s <= 0.05)) {
+    throw FieldError("discrepancy.screen_step_s", "must be in [predictor_step_s, 0.05] s");
+  }
   nozzle.validate();
 }
 
@@ -155,6 +161,7 @@ CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
   c.params = extension_values(fit.ext, name);
   c.train_sse = fit.sse;
   c.fit_evaluations = fit.evaluations;
+  c.fit_screen_evaluations = fit.screen_evaluations;
   const int k = static_cast<int>(fit_box(name).lo.size());
   c.delta_bic = bic(fit.sse, train.size(), k) - bic(base_sse, train.size(), 0);
   std::vector<WindowScore> h;
@@ -240,7 +247,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
                            " trajectories or windows were shorter than " +
                            fixed(o.min_window_s, 2) + " s (or 5 frames) and were not used.");
   }
-  Evaluator ev(field, ws, o.predictor_step_s);
+  Evaluator ev(field, ws, o.predictor_step_s, o.screen_step_s);
   say("baseline: predicting " + std::to_string(ws.windows.size()) +
       " windows with the nominal model");
   const std::vector<char> informative = baseline(ev, ws, train, held, &report);

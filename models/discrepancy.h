@@ -17,9 +17,10 @@
 //    command changed, speed and floor position.
 // 3. Diagnosis. The trajectories are split (seeded) into a training and a held-out part. Each
 //    extension of the catalogue (models/model_extensions.h) is fitted on the training windows by
-//    nonlinear least squares on the normalised position errors (a grid over its fit range, then
-//    Levenberg-Marquardt from Eigen's unsupported module with central differences), and scored on
-//    the held-out windows. It counts as a cause when all three hold:
+//    nonlinear least squares on the normalised position errors (a grid over its fit range ranked
+//    at a coarse screening step, a compass search, then Levenberg-Marquardt from Eigen's
+//    unsupported module; docs/discrepancy.md), and scored on the held-out windows. It counts as
+//    a cause when all three hold:
 //      - delta BIC <= -10 on the training windows (n = windows, SSE of the normalised errors);
 //      - the one-sided Wilcoxon signed-rank test of the held-out per-window path errors
 //        (nominal minus extended) gives p < alpha / (number of candidates) (Bonferroni);
@@ -68,6 +69,9 @@ struct DiscrepancyOptions {
   size_t min_heldout_windows = 8;  ///< fewer held-out windows: nothing can be decided
   int max_iterations = 40;         ///< Levenberg-Marquardt iterations per fit
   double predictor_step_s = 1e-3;
+  /// The step at which the fits' grids are ranked before their best points are scored at
+  /// predictor_step_s (docs/discrepancy.md); predictor_step_s itself: no screening.
+  double screen_step_s = 8e-3;
   NozzleResponseParameters nozzle;  ///< the nominal response
   /// Called with one line per stage (progress for people); optional.
   std::function<void(const std::string&)> progress;
@@ -90,7 +94,8 @@ struct CandidateResult {
   bool relevant = false;            ///< larger than the extension's negligible size
   bool end_mape_improves = false;   ///< held-out end MAPE not above the round's base
   bool significant = false;
-  int fit_evaluations = 0;
+  int fit_evaluations = 0;         ///< windows-set predictions at the full step
+  int fit_screen_evaluations = 0;  ///< and at the screening step (the grid's ranking)
 };
 
 /// A bin of residuals (cm): the mean along the radial direction from s, across it (positive

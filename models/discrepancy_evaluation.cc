@@ -14,7 +14,9 @@ double robust_cost(double e) {
 }
 
 void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
-                         std::vector<WindowScore>* scores, Eigen::VectorXd* residuals) const {
+                         std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
+                         Fidelity fidelity) const {
+  const ExtendedPredictor& predictor = fidelity == Fidelity::kFull ? predictor_ : screen_;
   scores->assign(which.size(), {});
   std::vector<size_t> offsets(which.size() + 1, 0);
   for (size_t i = 0; i < which.size(); ++i) {
@@ -25,7 +27,7 @@ void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& 
     std::vector<Eigen::Vector2d> predicted;
     for (size_t i = begin; i < end; ++i) {
       const Window& w = ws_.windows[which[i]];
-      predictor_.predict(*w.xi, ext, *w.timeline, w.start, w.times, &predicted);
+      predictor.predict(*w.xi, ext, *w.timeline, w.start, w.times, &predicted);
       const double norm = 1.0 / (w.scale_m * std::sqrt(static_cast<double>(w.times.size())));
       double sum = 0.0;
       for (size_t k = 0; k < w.times.size(); ++k) {
@@ -50,11 +52,14 @@ void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& 
       sc.predicted_travel_m = (predicted.back() - w.start.p_W).norm();
     }
   };
-  // Windows in contiguous chunks, one per thread: each window's figures are its own, so the
+  // Windows in small chunks handed out to the threads as they come free (a window where the
+  // object moves costs many times one where it rests): each window's figures are its own, so the
   // result does not depend on the thread count.
   const size_t n = which.size();
-  const size_t t = std::min<size_t>(threads_, std::max<size_t>(1, n / 4));
-  parallel_for(t, static_cast<int>(t), [&](size_t j) { work(n * j / t, n * (j + 1) / t); });
+  const size_t chunk = 2;
+  const size_t items = (n + chunk - 1) / chunk;
+  parallel_for(items, static_cast<int>(std::min<size_t>(threads_, items)),
+               [&](size_t j) { work(j * chunk, std::min(n, (j + 1) * chunk)); });
 }
 
 double sum_squares(const std::vector<WindowScore>& s) {

@@ -33,10 +33,15 @@ struct WindowScore {
   double predicted_travel_m = 0.0;  // predicted displacement over the window
 };
 
+// How finely a window is integrated: at the analysis's step, or at the coarser screening step
+// for the fits' grids, which only rank starting points (their best few are scored again at the
+// full step).
+enum class Fidelity { kFull, kScreen };
+
 class Evaluator {
  public:
-  Evaluator(const AirFieldModel& field, const WindowSet& ws, double step_s)
-      : predictor_(field, step_s), ws_(ws) {
+  Evaluator(const AirFieldModel& field, const WindowSet& ws, double step_s, double screen_step_s)
+      : predictor_(field, step_s), screen_(field, screen_step_s), ws_(ws) {
     const unsigned hw = std::thread::hardware_concurrency();
     threads_ = std::clamp<unsigned>(hw == 0 ? 1 : hw, 1, 8);
   }
@@ -47,7 +52,8 @@ class Evaluator {
   // 2 per sample, each divided by sqrt(samples) so that a window's squares sum to its
   // path_error^2.
   void evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
-                std::vector<WindowScore>* scores, Eigen::VectorXd* residuals) const;
+                std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
+                Fidelity fidelity = Fidelity::kFull) const;
 
   size_t residual_count(const std::vector<size_t>& which) const {
     size_t n = 0;
@@ -57,6 +63,7 @@ class Evaluator {
 
  private:
   ExtendedPredictor predictor_;
+  ExtendedPredictor screen_;
   const WindowSet& ws_;
   unsigned threads_ = 1;
 };

@@ -13,36 +13,53 @@ namespace {
 
 constexpr int kCompassLevels = 4;  // steps of 1/2, 1/4, 1/8 and 1/16 of the grid's pitch
 constexpr int kCompassSweeps = 6;  // most moves at one step size
+// Grid points scored again at the full step after ranking at the screening step: the ranking
+// moves by the screening step's error, which is small against the differences between grid
+// points but can swap near-equal neighbours.
+constexpr size_t kGridFinalists = 4;
+constexpr double kRefineTolerance = 1e-4;
+constexpr int kScreenedCompassLevels = 2;  // the compass's levels ranked at the screening step
 
-// Levenberg-Marquardt over the training residuals, central differences in fit coordinates.
+// Levenberg-Marquardt over the training residuals, finite differences in fit coordinates.
 struct FitFunctor : Eigen::DenseFunctor<double> {
   FitFunctor(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
-             const std::vector<std::string>& names, const std::vector<double>& steps, int n_inputs,
-             int n_values)
+             const std::vector<std::string>& names, const std::vector<double>& steps,
+             const std::vector<double>& upper, int n_inputs, int n_values)
       : Eigen::DenseFunctor<double>(n_inputs, n_values),
         ev(ev),
         train(train),
         base(base),
         names(names),
-        steps(steps) {}
+        steps(steps),
+        upper(upper) {}
 
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     std::vector<WindowScore> scores;
     Eigen::VectorXd r;
     ev.evaluate(apply_fit(base, names, x.data()), train, &scores, &r);
     f = r;
+    last_x_ = x;
+    last_f_ = r;
     ++evaluations;
     return 0;
   }
+  // One-sided differences from the residuals at x, which Levenberg-Marquardt has usually just
+  // evaluated (kept in `last_`): one prediction of the windows per coordinate, stepping inward at
+  // the fit box's upper edge (beyond it apply_fit clamps, and the slope would read 0).
   int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
-    Eigen::VectorXd fp, fm;
+    Eigen::VectorXd f0, fp;
+    if (last_x_.size() == x.size() && last_x_ == x) {
+      f0 = last_f_;
+    } else {
+      (*this)(x, f0);
+    }
     for (Eigen::Index j = 0; j < x.size(); ++j) {
-      Eigen::VectorXd xp = x, xm = x;
-      xp[j] += steps[static_cast<size_t>(j)];
-      xm[j] -= steps[static_cast<size_t>(j)];
+      Eigen::VectorXd xp = x;
+      const size_t k = static_cast<size_t>(j);
+      const double h = x[j] + steps[k] <= upper[k] ? steps[k] : -steps[k];
+      xp[j] += h;
       (*this)(xp, fp);
-      (*this)(xm, fm);
-      jac.col(j) = (fp - fm) / (2.0 * steps[static_cast<size_t>(j)]);
+      jac.col(j) = (fp - f0) / h;
     }
     return 0;
   }
@@ -52,7 +69,9 @@ struct FitFunctor : Eigen::DenseFunctor<double> {
   const ModelExtensions& base;
   const std::vector<std::string>& names;
   std::vector<double> steps;
+  std::vector<double> upper;  // the fit box's upper edges
   mutable int evaluations = 0;
+  mutable Eigen::VectorXd last_x_, last_f_;  // the most recent evaluation
 };
 
 }  // namespace
@@ -138,30 +157,51 @@ ModelExtensions apply_fit(const ModelExtensions& base, const std::vector<std::st
 
 int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
                const std::vector<std::string>& names, int max_iterations, Eigen::VectorXd* x) {
-  // Central-difference steps of 1/200 of each coordinate's fit range.
-  std::vector<double> steps;
+  // Difference steps of 1/200 of each coordinate's fit range.
+  std::vector<double> steps, upper;
   for (const std::string& name : names) {
     const FitBox box = fit_box(name);
-    for (size_t i = 0; i < box.lo.size(); ++i) steps.push_back((box.hi[i] - box.lo[i]) / 200.0);
+    for (size_t i = 0; i < box.lo.size(); ++i) {
+      steps.push_back((box.hi[i] - box.lo[i]) / 200.0);
+      upper.push_back(box.hi[i]);
+    }
   }
-  FitFunctor functor(ev, train, base, names, steps, static_cast<int>(x->size()),
+  FitFunctor functor(ev, train, base, names, steps, upper, static_cast<int>(x->size()),
                      static_cast<int>(ev.residual_count(train)));
   Eigen::LevenbergMarquardt<FitFunctor> lm(functor);
   lm.setMaxfev(max_iterations);
+  // Stop when a step changes the cost or the coordinates by less than 1e-4 relative: where
+  // objects start and stop the cost is stepwise, and below that Levenberg-Marquardt only spends
+  // its budget on the steps' noise.
+  lm.setFtol(kRefineTolerance);
+  lm.setXtol(kRefineTolerance);
   lm.minimize(*x);
   return functor.evaluations;
 }
 
 double fit_ordinary_stiction(const Evaluator& ev, const std::vector<size_t>& train,
                              const ModelExtensions& base) {
+  // Ranked at the screening step; the best kGridFinalists scored at the full step.
   std::vector<WindowScore> scores;
-  double best_ratio = 1.0, best_cost = INFINITY;
+  std::vector<std::pair<double, int>> ranked;  // (screening cost, grid index)
   for (int i = 0; i < kOrdinaryStictionGrid; ++i) {
+    ModelExtensions ext = base;
+    ext.static_friction_ratio = 1.0 + i * kOrdinaryStictionStep;
+    ev.evaluate(ext, train, &scores, nullptr, Fidelity::kScreen);
+    ranked.emplace_back(sum_squares(scores), i);
+  }
+  std::sort(ranked.begin(), ranked.end());
+  ranked.resize(std::min(ranked.size(), kGridFinalists));
+  // In increasing ratio, so that ties keep the smaller ratio.
+  std::sort(ranked.begin(), ranked.end(),
+            [](const auto& a, const auto& b) { return a.second < b.second; });
+  double best_ratio = 1.0, best_cost = INFINITY;
+  for (const auto& [screen_cost, i] : ranked) {
     ModelExtensions ext = base;
     ext.static_friction_ratio = 1.0 + i * kOrdinaryStictionStep;
     ev.evaluate(ext, train, &scores, nullptr);
     const double c = sum_squares(scores);
-    if (c < best_cost) {  // ties keep the smaller ratio
+    if (c < best_cost) {
       best_cost = c;
       best_ratio = ext.static_friction_ratio;
     }
@@ -181,33 +221,54 @@ FitResult fit_extensions(const Evaluator& ev, const std::vector<size_t>& train,
     return sum_squares(scores);
   };
   // Grid over the new extension's coordinates; with the nuisance, at the base's ratio and at 1.
+  // The grid is ranked at the screening step; its best kGridFinalists are scored at the full one.
   const std::vector<std::vector<double>> grid = fit_grid(names.back());
   const size_t fixed = x0.size();
   std::vector<double> x = x0;
   x.resize(fixed + grid.size());
   std::vector<double> best_x = x;
+  double best_ratio = base.static_friction_ratio;
   std::vector<double> ratios{base.static_friction_ratio};
   if (fit_nuisance && base.static_friction_ratio != 1.0) ratios.push_back(1.0);
+  struct GridPoint {
+    double cost;
+    double ratio;
+    std::vector<double> x;
+  };
+  std::vector<GridPoint> points;
   for (const double ratio : ratios) {
     on.static_friction_ratio = ratio;
     std::vector<size_t> idx(grid.size(), 0);
     while (true) {
       for (size_t i = 0; i < grid.size(); ++i) x[fixed + i] = grid[i][idx[i]];
-      const double c = cost(x);
-      if (c < best.sse) {
-        best.sse = c;
-        best_x = x;
-      }
+      ev.evaluate(apply_fit(on, names, x.data()), train, &scores, nullptr, Fidelity::kScreen);
+      points.push_back({sum_squares(scores), ratio, x});
       size_t d = 0;
       while (d < grid.size() && ++idx[d] == grid[d].size()) idx[d++] = 0;
       if (d == grid.size()) break;
     }
   }
+  best.screen_evaluations += static_cast<int>(points.size());
+  // Ties keep the earlier point (stable order), as the full-step grid did.
+  std::stable_sort(points.begin(), points.end(),
+                   [](const GridPoint& a, const GridPoint& b) { return a.cost < b.cost; });
+  points.resize(std::min(points.size(), kGridFinalists));
+  for (const GridPoint& g : points) {
+    on.static_friction_ratio = g.ratio;
+    const double c = cost(g.x);
+    if (c < best.sse) {
+      best.sse = c;
+      best_x = g.x;
+      best_ratio = g.ratio;
+    }
+  }
+  on.static_friction_ratio = best_ratio;
   // The nuisance under the grid's best point.
   if (fit_nuisance) {
     on.static_friction_ratio =
         fit_ordinary_stiction(ev, train, apply_fit(on, names, best_x.data()));
-    best.evaluations += kOrdinaryStictionGrid;
+    best.evaluations += static_cast<int>(std::min<size_t>(kOrdinaryStictionGrid, kGridFinalists));
+    best.screen_evaluations += kOrdinaryStictionGrid;
     best.sse = cost(best_x);
   }
   // A compass search below the grid's pitch over the new extension's coordinates: where objects
@@ -219,22 +280,42 @@ FitResult fit_extensions(const Evaluator& ev, const std::vector<size_t>& train,
   for (size_t i = 0; i < grid.size(); ++i) {
     if (grid[i].size() > 1) step[i] = 0.5 * (grid[i][1] - grid[i][0]);
   }
+  auto screen_cost = [&](const std::vector<double>& x) {
+    ev.evaluate(apply_fit(on, names, x.data()), train, &scores, nullptr, Fidelity::kScreen);
+    ++best.screen_evaluations;
+    return sum_squares(scores);
+  };
+  // The coarse levels move by fractions of the grid's pitch: ranked at the screening step, and
+  // their end point kept only when the full step agrees that it is better.
+  const std::vector<double> grid_x = best_x;
+  double level_cost = screen_cost(best_x);
   for (int level = 0; level < kCompassLevels; ++level) {
+    const bool screened = level < kScreenedCompassLevels;
+    if (level == kScreenedCompassLevels && best_x != grid_x) {
+      const double c = cost(best_x);
+      if (c < best.sse) {
+        best.sse = c;
+      } else {
+        best_x = grid_x;
+      }
+    }
+    if (level == kScreenedCompassLevels) level_cost = best.sse;
     for (int sweep = 0, moved = 1; moved && sweep < kCompassSweeps; ++sweep) {
       moved = 0;
       for (size_t i = 0; i < grid.size(); ++i) {
         for (const double sign : {1.0, -1.0}) {
           std::vector<double> trial = best_x;
           trial[fixed + i] += sign * step[i];
-          const double c = cost(trial);
-          if (c < best.sse) {
-            best.sse = c;
+          const double c = screened ? screen_cost(trial) : cost(trial);
+          if (c < level_cost) {
+            level_cost = c;
             best_x = trial;
             moved = 1;
           }
         }
       }
     }
+    if (!screened) best.sse = level_cost;
     for (double& h : step) h *= 0.5;
   }
   // Refine.

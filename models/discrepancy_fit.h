@@ -56,7 +56,8 @@ double fit_ordinary_stiction(const Evaluator& ev, const std::vector<size_t>& tra
 struct FitResult {
   ModelExtensions ext;
   double sse = INFINITY;
-  int evaluations = 0;
+  int evaluations = 0;         ///< at the full step
+  int screen_evaluations = 0;  ///< at the screening step (the grid)
 };
 
 // Fits `names` (their fit coordinates concatenated) on top of `base`: the grid over the last

@@ -39,7 +39,8 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                 {"relevant", c.relevant},
                 {"end_mape_improves", c.end_mape_improves},
                 {"significant", c.significant},
-                {"fit_evaluations", c.fit_evaluations}};
+                {"fit_evaluations", c.fit_evaluations},
+                {"fit_screen_evaluations", c.fit_screen_evaluations}};
   };
   Json j;
   j["baseline_end_mape"] = num(r.baseline_end_mape);

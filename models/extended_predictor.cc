@@ -11,6 +11,9 @@ namespace {
 constexpr double kGravity = 9.81;  // m/s^2
 // sqrt(2e): makes strength the peak of (r / l) exp(-(r / l)^2) scaled by it.
 const double kPushNorm = std::sqrt(2.0 * std::exp(1.0));
+// Steps under one orientation before the full field (360 profiles, ~1 us) pays for itself
+// against reading two profiles per step along rays.
+constexpr int kSteadySteps = 16;
 
 }  // namespace
 
@@ -46,8 +49,9 @@ struct Pull {
             Eigen::Vector2d(std::cos(ext.slope_direction_rad), std::sin(ext.slope_direction_rad))),
         push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {}
 
-  // The acceleration without friction at (p, v) in `field`.
-  Eigen::Vector2d operator()(const OrientedField& field, const Eigen::Vector2d& p,
+  // The acceleration without friction at (p, v) in `field` (an OrientedField or OrientedRays).
+  template <typename Field>
+  Eigen::Vector2d operator()(const Field& field, const Eigen::Vector2d& p,
                              const Eigen::Vector2d& v) const {
     const Eigen::Vector2d u0 = field.velocity(p);
     const Eigen::Vector2d u = ext.field_scale * Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(),
@@ -85,7 +89,8 @@ struct Mover {
         v(v0),
         moving(v0.squaredNorm() > 0.0) {}
 
-  void step(const OrientedField& field, double h) {
+  template <typename Field>
+  void step(const Field& field, double h) {
     if (moving) {
       const Eigen::Vector2d v_new = v + h * pull(field, p, v);
       const double speed = v_new.norm();
@@ -97,22 +102,27 @@ struct Mover {
         v = v_new * (1.0 - friction / speed);
         p += h * v;
       }
-    } else {
+    } else if (!held) {
       const Eigen::Vector2d a0 = pull(field, p, Eigen::Vector2d::Zero());
       const double a0_norm = a0.norm();
       if (a0_norm > static_pull) {
         v = h * (a0_norm - kinetic) / a0_norm * a0;
         p += h * v;
         moving = true;
+      } else {
+        held = true;  // the same field at the same point: held until the field changes
       }
     }
   }
+  // The field changed: an object held at rest must be checked again.
+  void field_changed() { held = false; }
 
   const Pull& pull;
   double kinetic;      // |xi3|: kinetic friction deceleration (m/s^2)
   double static_pull;  // the pull that starts an object at rest (m/s^2)
   Eigen::Vector2d p, v;
   bool moving;
+  bool held = false;  // at rest, and the pull at p in the current field did not start it
 };
 
 }  // namespace
@@ -137,8 +147,13 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   positions->assign(times_s.size(), start.p_W);
   if (times_s.empty()) return;
 
+  // While the nozzle moves the orientation changes every step: the field is then read along rays
+  // (two profiles per step); once it has held still for kSteadySteps the full field is built.
   NozzleOrientation cached = field_orientation(ext, timeline, start.t_s);
-  OrientedField field = field_.at(cached);
+  OrientedRays rays = field_.rays_at(cached);
+  OrientedField field;
+  bool have_field = false;
+  int steady = 0;
   const Pull pull(xi, ext);
   Mover object(pull, start.p_W, start.v_W);
   double t = start.t_s;
@@ -146,14 +161,25 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   size_t next = 0;
   while (next < times_s.size() && times_s[next] <= t) (*positions)[next++] = object.p;
   while (next < times_s.size()) {
-    // The field follows the nozzle: rebuild it when the orientation it follows has changed.
+    // The field follows the nozzle: a new one when the orientation it follows has changed.
     const NozzleOrientation o = field_orientation(ext, timeline, t);
     if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
       cached = o;
-      field = field_.at(o);
+      rays = field_.rays_at(o);
+      have_field = false;
+      steady = 0;
+      object.field_changed();
+    } else if (!have_field && ++steady >= kSteadySteps) {
+      field = rays.field();
+      have_field = true;
+      object.field_changed();
     }
     const Eigen::Vector2d p_old = object.p;
-    object.step(field, h);
+    if (have_field) {
+      object.step(field, h);
+    } else {
+      object.step(rays, h);
+    }
     const double t_new = t + h;
     while (next < times_s.size() && times_s[next] <= t_new) {
       const double f = (times_s[next] - t) / h;
@@ -207,6 +233,7 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
     if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
       cached = o;
       field = field_.at(o);
+      for (Mover& m : objects) m.field_changed();
     }
     for (size_t j = 0; j < objects.size(); ++j) {
       p_old[j] = objects[j].p;

@@ -90,7 +90,11 @@ launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   # Paths relative to the checkout in ccache's hashes: another clone of the same sources hits.
+  # With -g (the sanitizer build) ccache also hashes the build folder's path, which is in the
+  # debug information: left out, so that clones share those objects too (their debug
+  # information then names the first clone's folder).
   export CCACHE_BASEDIR="$PWD"
+  export CCACHE_NOHASHDIR=1
 fi
 
 begin "release build"

@@ -237,6 +237,31 @@ TEST(AirField, RaysViewEqualsTheFullField) {
   EXPECT_THROW(model.rays_at({NAN, 0.1}), InputError);
 }
 
+TEST(AirField, VelocityAlongRaysEqualsTheFullField) {
+  // OrientedRays::velocity reads two profiles where OrientedField reads its ring: the same
+  // profiles and formula, so equal to rounding (the ring's kernel may contract to FMA), at points
+  // near s, far away, on the 359-0 deg seam and at s itself.
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pan(-400.0, 400.0), tilt(0.0, 64.0), xy(-2.0, 2.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    const NozzleOrientation o = deg(pan(rng), tilt(rng));
+    const OrientedField f = model.at(o);
+    const OrientedRays rays = model.rays_at(o);
+    const Eigen::Vector2d s = f.stagnation_point();
+    const Eigen::Vector2d downstream(std::cos(o.pan_rad), std::sin(o.pan_rad));
+    std::vector<Eigen::Vector2d> points{
+        s, s + 0.4 * downstream, s + Eigen::Vector2d(-downstream.y(), downstream.x()) * 1e-3};
+    for (int k = 0; k < 40; ++k) points.emplace_back(xy(rng), xy(rng));
+    for (const Eigen::Vector2d& p : points) {
+      const Eigen::Vector2d a = rays.velocity(p), b = f.velocity(p);
+      ASSERT_LE((a - b).norm(), 1e-13 * (1.0 + b.norm()))
+          << "trial " << trial << " at " << p.x() << ", " << p.y();
+    }
+    EXPECT_EQ(rays.velocity(s), Eigen::Vector2d::Zero());
+  }
+}
+
 TEST(AirField, RejectsInvalidOrientation) {
   const AirFieldModel model = AirFieldModel::with_default_table();
   EXPECT_THROW(model.at({0.0, deg_to_rad(90)}), InputError);

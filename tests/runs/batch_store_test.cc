@@ -65,12 +65,13 @@ TEST(BatchStore, FinishedRunsAreTheReadableRecords) {
   const std::string dir = fresh_scratch_dir("records");
   const BatchStore store(dir, manifest(3));
   EXPECT_FALSE(store.load({"line", 1}).has_value());
-  RunLogs logs{"t,x\n", "t,ref\n", "t,id\n"};
+  RunLogs logs{"t,x\n", "t,ref\n", "t,id\n", "t,pan,tilt\n"};
   store.commit({"line", 1}, record(1), &logs);
   store.commit({"line", 2}, record(2), nullptr);
   ASSERT_TRUE(store.load({"line", 1}).has_value());
   EXPECT_EQ(store.load({"line", 1})->key, (RunKey{"line", 1}));
   EXPECT_EQ(read_text_file(dir + "/runs/line/seed-1.log.csv"), "t,x\n");
+  EXPECT_EQ(read_text_file(dir + "/runs/line/seed-1.nozzle.csv"), "t,pan,tilt\n");
   EXPECT_EQ(store.record_path({"line", 2}), dir + "/runs/line/seed-2.json");
 
   // A damaged record, or one holding another run, is not finished and says why.
