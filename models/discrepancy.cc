@@ -7,11 +7,12 @@
 
 #include "common/errors.h"
 #include "common/random_stream.h"
+#include "models/discrepancy_decision.h"
 #include "models/discrepancy_evaluation.h"
 #include "models/discrepancy_fit.h"
 #include "models/discrepancy_report.h"
 #include "models/discrepancy_residuals.h"
-#include "models/discrepancy_statistics.h"
+#include "models/discrepancy_uncertainty.h"
 #include "models/discrepancy_windows.h"
 
 namespace airtwin {
@@ -138,18 +139,26 @@ struct Selection {
   ModelExtensions base;           // nominal + the nuisance
   ModelExtensions current;        // base + the chosen causes
   std::vector<double> current_x;  // fit coordinates of the chosen extensions
-  std::vector<WindowScore> cur_train, cur_held;
+  WindowFigures figures;          // of `current`
 };
 
-// Candidate `name` fitted on top of the chosen causes and scored on the held-out windows.
-CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
-                                const std::vector<size_t>& train, const std::vector<size_t>& held,
-                                const std::vector<char>& informative, const Selection& sel,
-                                const std::string& name, double threshold,
-                                const DiscrepancyOptions& o) {
-  const double base_sse = sum_squares(sel.cur_train);
-  const double base_err = mean_path_error(sel.cur_held, informative);
-  const double base_end_mape = end_mape(sel.cur_held);
+// The per-window figures of `ext`: the training windows' robust costs, the held-out scores.
+WindowFigures figures_of(const Evaluator& ev, const ModelExtensions& ext,
+                         const std::vector<size_t>& train, const std::vector<size_t>& held) {
+  WindowFigures f;
+  std::vector<WindowScore> t;
+  ev.evaluate(ext, train, &t, nullptr);
+  for (const WindowScore& w : t) f.train_cost.push_back(robust_cost(w.path_error));
+  ev.evaluate(ext, held, &f.held, nullptr);
+  return f;
+}
+
+// Candidate `name` fitted on top of the chosen causes and scored by the decision rule.
+CandidateResult score_candidate(const Evaluator& ev, const std::vector<size_t>& train,
+                                const std::vector<size_t>& held, const DecisionWindows& windows,
+                                const Selection& sel, const std::string& name,
+                                const DecisionRule& rule, const DiscrepancyOptions& o,
+                                WindowFigures* figures) {
   std::vector<std::string> fit_names = sel.chosen;
   fit_names.push_back(name);
   const bool nuisance =
@@ -162,29 +171,18 @@ CandidateResult score_candidate(const Evaluator& ev, const WindowSet& ws,
   c.train_sse = fit.sse;
   c.fit_evaluations = fit.evaluations;
   c.fit_screen_evaluations = fit.screen_evaluations;
-  const int k = static_cast<int>(fit_box(name).lo.size());
-  c.delta_bic = bic(fit.sse, train.size(), k) - bic(base_sse, train.size(), 0);
-  std::vector<WindowScore> h;
-  ev.evaluate(fit.ext, held, &h, nullptr);
-  // Differences of the RMS path error below what the data resolve are ties at zero: they say
-  // nothing either way, and an effect that acts only in part of the floor (a push near s) would
-  // otherwise drown in the noise of the windows it does not touch.
-  std::vector<double> d(held.size());
-  for (size_t i = 0; i < held.size(); ++i) {
-    const double diff = sel.cur_held[i].path_error - h[i].path_error;
-    const double diff_m = diff * ws.windows[held[i]].scale_m;
-    d[i] = std::abs(diff_m) < kResolvedDifference_m ? 0.0 : diff;
-  }
-  c.p_value = wilcoxon_greater(d);
-  c.heldout_path_error = mean_path_error(h, informative);
-  c.heldout_end_mape = end_mape(h);
-  c.gain = 1.0 - c.heldout_path_error / base_err;
-  c.heldout_cost = sum_squares(h);
   c.relevant = extension_size(fit.ext, name) > negligible_size(name);
-  // Never a cause beside a worse held-out figure: the end-position MAPE must not grow either.
-  c.end_mape_improves = !(c.heldout_end_mape > base_end_mape);
-  c.significant = c.delta_bic <= o.max_delta_bic && c.p_value < threshold && c.gain >= o.min_gain &&
-                  c.relevant && c.end_mape_improves;
+  *figures = figures_of(ev, fit.ext, train, held);
+  const int k = static_cast<int>(fit_box(name).lo.size());
+  const Decision d = decide(sel.figures, *figures, k, c.relevant, windows, rule);
+  c.delta_bic = d.delta_bic;
+  c.p_value = d.p_value;
+  c.heldout_path_error = d.path_error;
+  c.heldout_end_mape = d.end_mape;
+  c.gain = d.gain;
+  c.heldout_cost = d.cost;
+  c.end_mape_improves = d.end_mape_improves;
+  c.significant = d.significant;
   return c;
 }
 
@@ -220,8 +218,7 @@ void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
     const std::vector<double> fx = fit_from_typed(name, extension_values(sel->current, name));
     sel->current_x.insert(sel->current_x.end(), fx.begin(), fx.end());
   }
-  ev.evaluate(sel->current, train, &sel->cur_train, nullptr);
-  ev.evaluate(sel->current, held, &sel->cur_held, nullptr);
+  sel->figures = figures_of(ev, sel->current, train, held);
 }
 
 }  // namespace
@@ -261,21 +258,39 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
 
   // Forward selection, every fit on top of the ordinary static friction (the nuisance), each
   // round's candidates tested at alpha corrected for their number.
-  const double threshold = o.alpha / static_cast<double>(names.size());
+  DecisionRule rule;
+  rule.p_threshold = o.alpha / static_cast<double>(names.size());
+  rule.max_delta_bic = o.max_delta_bic;
+  rule.min_gain = o.min_gain;
+  std::vector<double> held_scale_m;
+  for (size_t i : held) held_scale_m.push_back(ws.windows[i].scale_m);
+  const DecisionWindows windows = all_windows(train.size(), held.size(), held_scale_m, informative);
   const ModelExtensions nominal;
   Selection sel;
   sel.base = nominal;
   sel.base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
   sel.current = sel.base;
-  ev.evaluate(sel.current, train, &sel.cur_train, nullptr);
-  ev.evaluate(sel.current, held, &sel.cur_held, nullptr);
+  sel.figures = figures_of(ev, sel.current, train, held);
   for (int round = 0; round < o.max_found; ++round) {
     std::vector<CandidateResult> results;
+    std::vector<WindowFigures> figures;
     for (const std::string& name : names) {
       if (std::find(sel.chosen.begin(), sel.chosen.end(), name) != sel.chosen.end()) continue;
       say("round " + std::to_string(round + 1) + ": fitting " + name);
-      results.push_back(score_candidate(ev, ws, train, held, informative, sel, name, threshold, o));
+      figures.emplace_back();
+      results.push_back(
+          score_candidate(ev, train, held, windows, sel, name, rule, o, &figures.back()));
     }
+    // How firmly the round's decision rests on the windows recorded.
+    std::vector<RoundCandidate> round_candidates;
+    for (size_t i = 0; i < results.size(); ++i) {
+      round_candidates.push_back(
+          {&figures[i], static_cast<int>(fit_box(results[i].name).lo.size()), results[i].relevant});
+    }
+    const std::vector<double> freq = selection_frequencies(
+        sel.figures, round_candidates, held_scale_m, informative, rule, o.seed, round);
+    for (size_t i = 0; i < results.size(); ++i) results[i].selection_frequency = freq[i];
+    report.none_frequency.push_back(freq.back());
     report.rounds.push_back(results);
     if (round == 0) report.candidates = results;
     const CandidateResult* best = nullptr;
@@ -294,6 +309,17 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   report.nuisance_static_friction_ratio = stiction_found ? NAN : sel.base.static_friction_ratio;
   report.extensions = sel.current;
   if (!stiction_found) report.extensions.static_friction_ratio = 1.0;
+  if (!sel.chosen.empty()) {
+    say("bootstrap: intervals of the found causes' parameters");
+    // The nuisance held as the causes left it (sel.base).
+    const std::vector<std::vector<ParameterInterval>> iv =
+        parameter_intervals(ev, train, sel.base, sel.chosen, sel.current, o.seed);
+    for (size_t n = 0; n < sel.chosen.size(); ++n) {
+      for (const ParameterInterval& p : iv[n]) {
+        report.intervals[sel.chosen[n]].push_back({p.lo, p.hi});
+      }
+    }
+  }
   std::vector<WindowScore> extended_held;
   ev.evaluate(report.extensions, held, &extended_held, nullptr);
   report.extended_end_mape = end_mape(extended_held);

@@ -43,6 +43,7 @@
 // delay without any command change recorded, a single tilt (the tilt dependence is not checked).
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -94,6 +95,9 @@ struct CandidateResult {
   bool relevant = false;            ///< larger than the extension's negligible size
   bool end_mape_improves = false;   ///< held-out end MAPE not above the round's base
   bool significant = false;
+  /// Of bootstrap resamples of the windows, the fraction in which the decision rule adds this
+  /// candidate in its round (its fit held; models/discrepancy_uncertainty.h).
+  double selection_frequency = 0.0;
   int fit_evaluations = 0;         ///< windows-set predictions at the full step
   int fit_screen_evaluations = 0;  ///< and at the screening step (the grid's ranking)
 };
@@ -116,6 +120,11 @@ struct ResidualSample {
   double radial_m = 0.0, tangential_m = 0.0;  ///< prediction minus measurement
 };
 
+/// A 95 % bootstrap interval of a fitted parameter.
+struct ParameterRange {
+  double lo = NAN, hi = NAN;
+};
+
 struct DiscrepancyReport {
   std::string source;
   size_t n_trajectories = 0, n_windows = 0, n_train_windows = 0, n_heldout_windows = 0;
@@ -133,8 +142,12 @@ struct DiscrepancyReport {
 
   std::vector<CandidateResult> candidates;           ///< round 1: each extension alone
   std::vector<std::vector<CandidateResult>> rounds;  ///< every round of the forward selection
-  std::vector<std::string> found;                    ///< in the order they were added
-  ModelExtensions extensions;                        ///< fitted jointly over the found causes
+  /// Per round, the fraction of bootstrap resamples in which no candidate would be added.
+  std::vector<double> none_frequency;
+  std::vector<std::string> found;  ///< in the order they were added
+  ModelExtensions extensions;      ///< fitted jointly over the found causes
+  /// Per found cause, a 95 % bootstrap interval of each typed parameter (catalogue order).
+  std::map<std::string, std::vector<ParameterRange>> intervals;
   /// The ordinary static friction (static / kinetic, within 1 + negligible_size("stiction"))
   /// that the fits carry as a nuisance, as the causes found leave it (not a cause, not in
   /// `extensions`); NaN when stiction is a cause.

@@ -24,19 +24,20 @@ constexpr int kScreenedCompassLevels = 2;  // the compass's levels ranked at the
 struct FitFunctor : Eigen::DenseFunctor<double> {
   FitFunctor(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
              const std::vector<std::string>& names, const std::vector<double>& steps,
-             const std::vector<double>& upper, int n_inputs, int n_values)
+             const std::vector<double>& upper, Fidelity fidelity, int n_inputs, int n_values)
       : Eigen::DenseFunctor<double>(n_inputs, n_values),
         ev(ev),
         train(train),
         base(base),
         names(names),
         steps(steps),
-        upper(upper) {}
+        upper(upper),
+        fidelity(fidelity) {}
 
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     std::vector<WindowScore> scores;
     Eigen::VectorXd r;
-    ev.evaluate(apply_fit(base, names, x.data()), train, &scores, &r);
+    ev.evaluate(apply_fit(base, names, x.data()), train, &scores, &r, fidelity);
     f = r;
     last_x_ = x;
     last_f_ = r;
@@ -70,6 +71,7 @@ struct FitFunctor : Eigen::DenseFunctor<double> {
   const std::vector<std::string>& names;
   std::vector<double> steps;
   std::vector<double> upper;  // the fit box's upper edges
+  Fidelity fidelity;
   mutable int evaluations = 0;
   mutable Eigen::VectorXd last_x_, last_f_;  // the most recent evaluation
 };
@@ -156,7 +158,8 @@ ModelExtensions apply_fit(const ModelExtensions& base, const std::vector<std::st
 }
 
 int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
-               const std::vector<std::string>& names, int max_iterations, Eigen::VectorXd* x) {
+               const std::vector<std::string>& names, int max_iterations, Eigen::VectorXd* x,
+               Fidelity fidelity) {
   // Difference steps of 1/200 of each coordinate's fit range.
   std::vector<double> steps, upper;
   for (const std::string& name : names) {
@@ -166,7 +169,7 @@ int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
       upper.push_back(box.hi[i]);
     }
   }
-  FitFunctor functor(ev, train, base, names, steps, upper, static_cast<int>(x->size()),
+  FitFunctor functor(ev, train, base, names, steps, upper, fidelity, static_cast<int>(x->size()),
                      static_cast<int>(ev.residual_count(train)));
   Eigen::LevenbergMarquardt<FitFunctor> lm(functor);
   lm.setMaxfev(max_iterations);
@@ -177,6 +180,53 @@ int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
   lm.setXtol(kRefineTolerance);
   lm.minimize(*x);
   return functor.evaluations;
+}
+
+int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
+               const std::vector<std::string>& names, int max_iterations, Fidelity fidelity,
+               std::vector<double>* x) {
+  std::vector<double> step;
+  for (const std::string& name : names) {
+    for (const std::vector<double>& axis : fit_grid(name)) {
+      step.push_back(axis.size() > 1 ? 0.5 * (axis[1] - axis[0]) : 0.0);
+    }
+  }
+  AIRTWIN_DEMAND(step.size() == x->size());
+  std::vector<WindowScore> scores;
+  int evaluations = 0;
+  auto cost = [&](const std::vector<double>& at) {
+    ev.evaluate(apply_fit(base, names, at.data()), train, &scores, nullptr, fidelity);
+    ++evaluations;
+    return sum_squares(scores);
+  };
+  double best = cost(*x);
+  for (int level = 0; level < kCompassLevels; ++level) {
+    for (int sweep = 0, moved = 1; moved && sweep < kCompassSweeps; ++sweep) {
+      moved = 0;
+      for (size_t i = 0; i < x->size(); ++i) {
+        for (const double sign : {1.0, -1.0}) {
+          std::vector<double> trial = *x;
+          trial[i] += sign * step[i];
+          const double c = cost(trial);
+          if (c < best) {
+            best = c;
+            *x = trial;
+            moved = 1;
+          }
+        }
+      }
+    }
+    for (double& h : step) h *= 0.5;
+  }
+  if (max_iterations <= 0) return evaluations;
+  Eigen::VectorXd xv =
+      Eigen::Map<const Eigen::VectorXd>(x->data(), static_cast<Eigen::Index>(x->size()));
+  evaluations += refine_fit(ev, train, base, names, max_iterations, &xv, fidelity);
+  if (xv.allFinite()) {
+    const std::vector<double> refined(xv.data(), xv.data() + xv.size());
+    if (cost(refined) < best) *x = refined;
+  }
+  return evaluations;
 }
 
 double fit_ordinary_stiction(const Evaluator& ev, const std::vector<size_t>& train,

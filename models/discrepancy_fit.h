@@ -37,7 +37,17 @@ ModelExtensions apply_fit(const ModelExtensions& base, const std::vector<std::st
 // on top of `base`, from *x (refined in place), at most max_iterations evaluations. Returns the
 // evaluations spent.
 int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
-               const std::vector<std::string>& names, int max_iterations, Eigen::VectorXd* x);
+               const std::vector<std::string>& names, int max_iterations, Eigen::VectorXd* x,
+               Fidelity fidelity = Fidelity::kFull);
+
+// A fit near a known answer (the bootstrap's refits): from *x, a compass search over every
+// coordinate of `names` with steps from 1/2 down to 1/16 of each coordinate's grid pitch (as the
+// fits' own compass: on a stepwise cost smaller first steps stay on the answer's plateau), then
+// Levenberg-Marquardt (at most max_iterations evaluations; 0: none), every prediction at
+// `fidelity`. Returns the evaluations spent.
+int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
+               const std::vector<std::string>& names, int max_iterations, Fidelity fidelity,
+               std::vector<double>* x);
 
 // The ordinary static friction, a nuisance of every fit.
 // Every dry contact holds somewhat above its kinetic friction (static / kinetic 1-1.3), which

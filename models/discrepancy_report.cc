@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "models/discrepancy.h"
+#include "models/discrepancy_uncertainty.h"
 #include "models/effect_catalogue.h"
 
 namespace airtwin {
@@ -39,6 +40,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                 {"relevant", c.relevant},
                 {"end_mape_improves", c.end_mape_improves},
                 {"significant", c.significant},
+                {"selection_frequency", c.selection_frequency},
                 {"fit_evaluations", c.fit_evaluations},
                 {"fit_screen_evaluations", c.fit_screen_evaluations}};
   };
@@ -64,6 +66,16 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
     ext[name] = params;
   }
   j["extensions"] = ext;
+  Json intervals = Json::object();
+  for (const auto& [name, ranges] : r.intervals) {
+    const EffectSpec& spec = find_effect(name);
+    Json params = Json::object();
+    for (size_t i = 0; i < ranges.size(); ++i) {
+      params[spec.params[i].key] = Json::array({num(ranges[i].lo), num(ranges[i].hi)});
+    }
+    intervals[name] = params;
+  }
+  j["intervals"] = intervals;
   j["nuisance"] = {{"static_friction_ratio", num(r.nuisance_static_friction_ratio)}};
   Json rounds = Json::array();
   for (const auto& round : r.rounds) {
@@ -72,6 +84,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
     rounds.push_back(rr);
   }
   j["rounds"] = rounds;
+  j["none_frequency"] = r.none_frequency;
   j["baseline_end_mape_all"] = num(r.baseline_end_mape_all);
   j["baseline_path_error"] = num(r.baseline_path_error);
   j["extended_path_error"] = num(r.extended_path_error);
@@ -148,8 +161,8 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
   md += ":\n\n";
   md +=
       "| candidate | parameters | held-out end MAPE % | path error gain % | delta BIC | p | cause? "
-      "|\n"
-      "|---|---|---|---|---|---|---|\n";
+      "| chosen in resamples % |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   for (const CandidateResult& c : r.candidates) {
     ModelExtensions e;
     set_extension_values(&e, c.name, c.params);
@@ -157,9 +170,15 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           fixed(c.heldout_end_mape, 1) + " | " + fixed(100.0 * c.gain, 1) + " | " +
           fixed(c.delta_bic, 1) + " | " +
           (c.p_value < 1e-4 ? std::string("< 1e-4") : fixed(c.p_value, 4)) + " | " +
-          (c.significant ? "yes" : "no") + " |\n";
+          (c.significant ? "yes" : "no") + " | " + fixed(100.0 * c.selection_frequency, 0) + " |\n";
   }
   md += "\n";
+  if (!r.none_frequency.empty()) {
+    md += "The last column: of " + std::to_string(discrepancy_detail::kSelectionResamples) +
+          " resamples of the training and held-out windows (the fits held), how often the same "
+          "rule adds the candidate in the first round; none in " +
+          fixed(100.0 * r.none_frequency.front(), 0) + " %.\n\n";
+  }
   if (r.found.empty()) {
     md +=
         "**None** of the candidates explains the discrepancy better than chance: what remains "
@@ -167,7 +186,18 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
   } else {
     md += "Found, in order:\n\n";
     for (const std::string& f : r.found) {
-      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_effect(f).cause + ".\n";
+      md += "- **" + describe_extension(r.extensions, f) + "**: " + find_effect(f).cause + ".";
+      const auto it = r.intervals.find(f);
+      if (it != r.intervals.end()) {
+        const EffectSpec& spec = find_effect(f);
+        md += " 95 % bootstrap intervals:";
+        for (size_t i = 0; i < it->second.size(); ++i) {
+          md += std::string(i == 0 ? " " : ", ") + spec.params[i].key + " " +
+                fixed(it->second[i].lo, 3) + " to " + fixed(it->second[i].hi, 3);
+        }
+        md += ".";
+      }
+      md += "\n";
     }
     md += "\n";
   }

@@ -116,6 +116,23 @@ void expect_found(const Hidden& h, int seed) {
   const double base = r["baseline_end_mape"].get<double>();
   const double extended = r["extended_end_mape"].get<double>();
   EXPECT_LE(extended, 0.7 * base) << "held-out end MAPE " << base << " -> " << extended;
+  // Every found parameter has a bootstrap interval around its fit (printed beside the truth: on
+  // twin data the fit's bias is not the interval's to cover), and the cause was chosen in most
+  // resamples of the windows.
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const std::string key = std::get<0>(h.params[i]);
+    const double fitted = r["extensions"][h.name][key].get<double>();
+    const json& iv = r["intervals"][h.name][key];
+    ASSERT_TRUE(iv.is_array() && iv.size() == 2) << r["intervals"].dump();
+    EXPECT_LE(iv[0].get<double>(), fitted + 1e-9) << key;
+    EXPECT_GE(iv[1].get<double>(), fitted - 1e-9) << key;
+    std::printf("%s: fitted %.4g, 95 %% interval [%.4g, %.4g], truth %.4g\n", key.c_str(), fitted,
+                iv[0].get<double>(), iv[1].get<double>(), truth[i]);
+  }
+  for (const json& c : r["candidates"]) {
+    std::printf("  %s chosen in %.0f %% of resamples\n", c["name"].get<std::string>().c_str(),
+                100.0 * c["selection_frequency"].get<double>());
+  }
 }
 
 TEST(DiscrepancyCli, FindsPressureGradient) {
@@ -189,7 +206,9 @@ TEST(DiscrepancyCli, NamesNoCauseBesideAWorseHeldOutFigure) {
     // The field scale is the candidate that used to pass on the path error alone.
     bool scale_seen = false;
     for (const json& c : r["candidates"]) {
-      if (c["significant"].get<bool>()) EXPECT_TRUE(c["end_mape_improves"].get<bool>()) << c;
+      if (c["significant"].get<bool>()) {
+        EXPECT_TRUE(c["end_mape_improves"].get<bool>()) << c;
+      }
       if (c["name"] == "field_scale") {
         scale_seen = true;
         EXPECT_FALSE(c["significant"].get<bool>()) << c;

@@ -1,0 +1,59 @@
+#pragma once
+// The discrepancy analysis's decision rule (models/discrepancy.h, step 3): whether a candidate,
+// fitted on top of a round's base, is a cause, read from each model's per-window figures. One
+// home for the rule, used on the windows as they are and on resamples of them (the bootstrap of
+// models/discrepancy_uncertainty.h). Internal to the analysis.
+
+#include <cstddef>
+#include <vector>
+
+#include "models/discrepancy_evaluation.h"
+
+namespace airtwin::discrepancy_detail {
+
+// One model's figures per window: the robust cost of each training window and the scores of the
+// held-out ones.
+struct WindowFigures {
+  std::vector<double> train_cost;
+  std::vector<WindowScore> held;
+};
+
+// The thresholds of the rule.
+struct DecisionRule {
+  double p_threshold = 0.05;     // alpha / number of candidates
+  double max_delta_bic = -10.0;  // training
+  double min_gain = 0.15;        // relative drop of the held-out median path error
+};
+
+// What the rule reads and decides.
+struct Decision {
+  double delta_bic = 0.0;   // candidate minus base, training
+  double p_value = 1.0;     // one-sided Wilcoxon signed-rank on the held-out path errors
+  double path_error = 0.0;  // the candidate's held-out median path error (informative windows)
+  double end_mape = 0.0;    // the candidate's held-out end MAPE, percent
+  double gain = 0.0;        // 1 - path_error / the base's
+  double cost = 0.0;        // the candidate's robust cost over the held-out windows
+  bool end_mape_improves = false;
+  bool significant = false;
+};
+
+// The held-out and training windows the rule reads: indices into WindowFigures' vectors (repeats
+// allowed, for resamples), with each held-out window's scale (m) and whether it is informative
+// (something moved or was predicted to).
+struct DecisionWindows {
+  std::vector<size_t> train, held;
+  const std::vector<double>* held_scale_m = nullptr;
+  const std::vector<char>* informative = nullptr;
+};
+
+// The rule: delta BIC <= max_delta_bic with k the candidate's parameter count, p below the
+// threshold (held-out differences below kResolvedDifference_m count as ties at zero), gain >=
+// min_gain, the end MAPE not above the base's, and `relevant` (larger than negligible).
+Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k, bool relevant,
+                const DecisionWindows& windows, const DecisionRule& rule);
+
+// Every window once, in order: the decision on the data as they are.
+DecisionWindows all_windows(size_t n_train, size_t n_held, const std::vector<double>& held_scale_m,
+                            const std::vector<char>& informative);
+
+}  // namespace airtwin::discrepancy_detail

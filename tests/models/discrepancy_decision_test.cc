@@ -1,0 +1,95 @@
+// The decision rule against its definition on hand-made per-window figures: delta BIC from the
+// summed training costs, the signed-rank test on the held-out differences (with differences under
+// 1 mm as ties), the gain of the median path error, the end MAPE's veto and the relevance flag.
+
+#include "models/discrepancy_decision.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "models/discrepancy_statistics.h"
+
+namespace airtwin::discrepancy_detail {
+namespace {
+
+struct Case {
+  WindowFigures base, candidate;
+  std::vector<double> scale_m;
+  std::vector<char> informative;
+};
+
+// 12 held-out windows (scale 10 cm) where the candidate halves the base's path error, 20
+// training windows where it cuts each cost from 1 to 0.25.
+Case better_everywhere() {
+  Case c;
+  for (int i = 0; i < 20; ++i) {
+    c.base.train_cost.push_back(1.0);
+    c.candidate.train_cost.push_back(0.25);
+  }
+  for (int i = 0; i < 12; ++i) {
+    c.base.held.push_back(WindowScore{0.2 + 0.01 * i, 40.0});
+    c.candidate.held.push_back(WindowScore{0.1 + 0.005 * i, 20.0});
+    c.scale_m.push_back(0.1);
+    c.informative.push_back(1);
+  }
+  return c;
+}
+
+TEST(DiscrepancyDecision, ReadsEachCriterionAsDefined) {
+  const Case c = better_everywhere();
+  const DecisionWindows w = all_windows(20, 12, c.scale_m, c.informative);
+  const DecisionRule rule;  // p < 0.05, delta BIC <= -10, gain >= 15 %
+  const Decision d = decide(c.base, c.candidate, 2, true, w, rule);
+  EXPECT_NEAR(d.delta_bic, bic(5.0, 20, 2) - bic(20.0, 20, 0), 1e-12);
+  std::vector<double> diff;
+  for (int i = 0; i < 12; ++i)
+    diff.push_back(c.base.held[i].path_error - c.candidate.held[i].path_error);
+  EXPECT_NEAR(d.p_value, wilcoxon_greater(diff), 1e-15);
+  // Medians of 12: the mean of the 6th and 7th.
+  EXPECT_NEAR(d.path_error, 0.5 * (0.125 + 0.13), 1e-12);
+  EXPECT_NEAR(d.gain, 1.0 - d.path_error / (0.5 * (0.25 + 0.26)), 1e-12);
+  EXPECT_NEAR(d.end_mape, 20.0, 1e-12);
+  EXPECT_TRUE(d.end_mape_improves);
+  EXPECT_TRUE(d.significant);
+  // Each criterion alone vetoes.
+  EXPECT_FALSE(decide(c.base, c.candidate, 2, false, w, rule).significant);  // negligible size
+  DecisionRule strict = rule;
+  strict.min_gain = 0.6;
+  EXPECT_FALSE(decide(c.base, c.candidate, 2, true, w, strict).significant);
+  strict = rule;
+  strict.p_threshold = d.p_value;  // p must be below it
+  EXPECT_FALSE(decide(c.base, c.candidate, 2, true, w, strict).significant);
+  strict = rule;
+  strict.max_delta_bic = d.delta_bic - 1.0;
+  EXPECT_FALSE(decide(c.base, c.candidate, 2, true, w, strict).significant);
+  Case worse_end = c;
+  for (WindowScore& s : worse_end.candidate.held) s.end_pct = 41.0;  // base: 40 %
+  const Decision e = decide(worse_end.base, worse_end.candidate, 2, true, w, rule);
+  EXPECT_FALSE(e.end_mape_improves);
+  EXPECT_FALSE(e.significant);
+}
+
+TEST(DiscrepancyDecision, DifferencesUnderAMillimetreAreTies) {
+  Case c = better_everywhere();
+  // Scale 5 mm: every difference (0.1-0.155 scales, 0.5-0.8 mm) is under 1 mm: all ties,
+  // nothing to test.
+  for (double& s : c.scale_m) s = 0.005;
+  const DecisionWindows w = all_windows(20, 12, c.scale_m, c.informative);
+  const Decision d = decide(c.base, c.candidate, 2, true, w, DecisionRule{});
+  EXPECT_EQ(d.p_value, 1.0);
+  EXPECT_FALSE(d.significant);
+}
+
+TEST(DiscrepancyDecision, ResamplesReadTheWindowsTheyPick) {
+  // A resample that picks one window twelve times reads that window alone.
+  const Case c = better_everywhere();
+  DecisionWindows w = all_windows(20, 12, c.scale_m, c.informative);
+  w.held.assign(12, 3);
+  const Decision d = decide(c.base, c.candidate, 2, true, w, DecisionRule{});
+  EXPECT_NEAR(d.path_error, c.candidate.held[3].path_error, 1e-15);
+  EXPECT_NEAR(d.cost, 12.0 * robust_cost(c.candidate.held[3].path_error), 1e-12);
+}
+
+}  // namespace
+}  // namespace airtwin::discrepancy_detail
