@@ -26,7 +26,8 @@ constexpr std::initializer_list<FlagOf> kJoinFlags = {
     {"track_join.min_frames", "--min-frames"},
     {"track_join.max_speed_mps", "--max-speed"},
     {"track_join.max_missed_frames", "--max-missed"},
-    {"track_join.object", "--object"}};
+    {"track_join.object", "--object"},
+    {"track_join.clock_offset_s", "--clock-offset"}};
 
 // The ids of some dropped tracks, for the report: the first few, then how many more.
 std::string ids_of(const std::vector<DroppedTrack>& tracks) {
@@ -112,6 +113,10 @@ void add_trajectories_command(CLI::App& app) {
   sub->add_option("--max-missed", o.max_missed_frames,
                   "detect's --max-missed: a track's id back after a longer gap is a reused id, an\n"
                   "error")
+      ->capture_default_str();
+  sub->add_option("--clock-offset", o.clock_offset_s,
+                  "Seconds the nozzle log's clock runs behind the camera's: a command logged at t\n"
+                  "acted at t + offset on the detections' clock")
       ->capture_default_str();
   sub->callback([args] { run_trajectories(*args); });
 }

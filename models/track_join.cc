@@ -124,6 +124,10 @@ void TrackJoinOptions::validate(const std::set<std::string>& known_objects) cons
     throw FieldError("track_join.object", "unknown object type '" + object +
                                               "', expected one of: " + list_of(known_objects));
   }
+  if (!(std::isfinite(clock_offset_s) && std::abs(clock_offset_s) <= 86400.0)) {
+    throw FieldError("track_join.clock_offset_s",
+                     "expected a time in [-86400, 86400] s, got " + number(clock_offset_s));
+  }
 }
 
 TrackJoinResult join_tracks(const DetectionTable& detections, const NozzleLog& nozzle,
@@ -137,13 +141,17 @@ TrackJoinResult join_tracks(const DetectionTable& detections, const NozzleLog& n
   report.commands = nozzle.commands.size();
 
   // The log must cover the recording: a command in force at the first frame.
-  if (nozzle.commands.front().t_s > rows.front().t_s) {
-    throw InputError(nozzle.where(0) + ": column 't': the first command is at " +
-                     seconds(nozzle.commands.front().t_s) +
-                     ", after the recording's first frame (" + detections.source + ":" +
-                     std::to_string(rows.front().line) + ", frame " +
-                     std::to_string(rows.front().frame) + " at " + seconds(rows.front().t_s) +
-                     "); expected a log that starts at or before it");
+  const double offset = options.clock_offset_s;
+  if (nozzle.commands.front().t_s + offset > rows.front().t_s) {
+    throw InputError(
+        nozzle.where(0) + ": column 't': the first command is at " +
+        seconds(nozzle.commands.front().t_s) +
+        (offset != 0.0
+             ? " (" + seconds(nozzle.commands.front().t_s + offset) + " on the camera's clock)"
+             : std::string()) +
+        ", after the recording's first frame (" + detections.source + ":" +
+        std::to_string(rows.front().line) + ", frame " + std::to_string(rows.front().frame) +
+        " at " + seconds(rows.front().t_s) + "); expected a log that starts at or before it");
   }
   // The periods of one command: a new one at every row that changes the command.
   std::vector<size_t> period_of(nozzle.commands.size(), 0);
@@ -213,7 +221,7 @@ TrackJoinResult join_tracks(const DetectionTable& detections, const NozzleLog& n
     long previous_period = -1;
     for (size_t k = 0; k < track.rows.size(); ++k) {
       const DetectionRow& d = rows[track.rows[k]];
-      const long command = nozzle.index_at(d.t_s);
+      const long command = nozzle.index_at(d.t_s - offset);
       AIRTWIN_DEMAND(command >= 0);  // the log covers the first frame
       const long period = static_cast<long>(period_of[command]);
       if (k > 0) {

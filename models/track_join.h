@@ -71,10 +71,14 @@ struct TrackJoinOptions {
   int max_missed_frames = 8;
   /// Keep only this object type; empty: every type.
   std::string object;
+  /// How far the nozzle log's clock runs behind the camera's (s): a command logged at t acted at
+  /// t + clock_offset_s on the detections' clock. Two machines' clocks, or a servo log started
+  /// at its own zero. The written times are the camera's. |offset| <= 1 day.
+  double clock_offset_s = 0.0;
 
   /// Throws FieldError naming the field (`track_join.min_frames`, `track_join.max_speed_mps`,
-  /// `track_join.max_missed_frames`, `track_join.object`) for a value out of range or an unknown
-  /// object type.
+  /// `track_join.max_missed_frames`, `track_join.object`, `track_join.clock_offset_s`) for a
+  /// value out of range or an unknown object type.
   void validate(const std::set<std::string>& known_objects = default_object_types()) const;
 };
 
@@ -105,7 +109,8 @@ struct TrackJoinResult {
   TrackJoinReport report;
 };
 
-/// Joins the tracks of `detections` with the commands of `nozzle` (see above). Trajectories in
+/// Joins the tracks of `detections` with the commands of `nozzle` (see above), the log's times
+/// shifted by options.clock_offset_s. Trajectories in
 /// the order of their tracks' first rows, then in time; a trajectory's id is its track's id, or
 /// `<id>.<k>` for the k-th piece (1-based, in time) of a track cut into several (dropped pieces
 /// count). Throws FieldError for bad options; InputError naming the file and line when the log

@@ -35,7 +35,7 @@ RunRecord run_and_commit(const BatchPlan& plan, const AirFieldModel& field, cons
     json = record_json(result, time_limit_s, wall_s());
     if (options.keep_logs) {
       logs = RunLogs{trajectory_csv(result.log), decisions_csv(result), plans_csv(result),
-                     nozzle_log_csv(result.nozzle_log)};
+                     nozzle_log_csv(result.nozzle_log), result.vision_detections_csv};
     }
   } catch (const SimulationError& e) {
     json = failed_record_json(key, static_cast<int>(scenario.scene.objects.size()), time_limit_s,

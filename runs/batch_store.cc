@@ -1,6 +1,7 @@
 #include "runs/batch_store.h"
 
 #include <filesystem>
+#include <utility>
 
 #include "common/atomic_file.h"
 #include "common/csv.h"
@@ -10,6 +11,12 @@ namespace airtwin {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The logs a run keeps only when it has them, by file suffix (RunLogs).
+constexpr std::pair<const char*, std::string RunLogs::*> kOptionalLogs[] = {
+    {".plans.csv", &RunLogs::plans_csv},
+    {".nozzle.csv", &RunLogs::nozzle_csv},
+    {".detections.csv", &RunLogs::detections_csv}};
 
 std::string manifest_path(const std::string& dir) { return dir + "/batch.json"; }
 
@@ -92,11 +99,8 @@ void BatchStore::commit(const RunKey& key, const std::string& record_json,
   if (logs) {
     write_file_atomically(run_file(dir_, key, ".log.csv"), logs->log_csv);
     write_file_atomically(run_file(dir_, key, ".decisions.csv"), logs->decisions_csv);
-    if (!logs->plans_csv.empty()) {
-      write_file_atomically(run_file(dir_, key, ".plans.csv"), logs->plans_csv);
-    }
-    if (!logs->nozzle_csv.empty()) {
-      write_file_atomically(run_file(dir_, key, ".nozzle.csv"), logs->nozzle_csv);
+    for (const auto& [suffix, text] : kOptionalLogs) {
+      if (!(logs->*text).empty()) write_file_atomically(run_file(dir_, key, suffix), logs->*text);
     }
   }
   write_file_atomically(record_path(key), record_json);
@@ -107,13 +111,14 @@ void BatchStore::copy_run(const BatchStore& from, const RunKey& key) const {
   std::error_code ec;
   const std::string log = run_file(from.dir_, key, ".log.csv");
   if (fs::is_regular_file(log, ec)) {
-    logs = RunLogs{read_text_file(log), read_text_file(run_file(from.dir_, key, ".decisions.csv")),
-                   "", ""};
-    // plans.csv and nozzle.csv are newer than the other two: a batch made before has none.
-    const std::string plans = run_file(from.dir_, key, ".plans.csv");
-    if (fs::is_regular_file(plans, ec)) logs->plans_csv = read_text_file(plans);
-    const std::string nozzle = run_file(from.dir_, key, ".nozzle.csv");
-    if (fs::is_regular_file(nozzle, ec)) logs->nozzle_csv = read_text_file(nozzle);
+    logs = RunLogs{};
+    logs->log_csv = read_text_file(log);
+    logs->decisions_csv = read_text_file(run_file(from.dir_, key, ".decisions.csv"));
+    // Optional: a batch made before a log existed, or a run without vision, has none.
+    for (const auto& [suffix, text] : kOptionalLogs) {
+      const std::string path = run_file(from.dir_, key, suffix);
+      if (fs::is_regular_file(path, ec)) (*logs).*text = read_text_file(path);
+    }
   }
   commit(key, read_text_file(from.record_path(key)), logs ? &*logs : nullptr);
 }

@@ -18,12 +18,14 @@
 
 namespace airtwin {
 
-/// A finished run's log.csv, decisions.csv and plans.csv (the texts `airtwin run` writes).
+/// A finished run's logs (the texts `airtwin run` writes): log.csv and decisions.csv always;
+/// the others when not empty.
 struct RunLogs {
   std::string log_csv;
   std::string decisions_csv;
   std::string plans_csv;
-  std::string nozzle_csv;  ///< the commands sent to the nozzle (models/nozzle_log.h)
+  std::string nozzle_csv;      ///< the commands sent to the nozzle (models/nozzle_log.h)
+  std::string detections_csv;  ///< what the camera pipeline detected (with vision)
 };
 
 class BatchStore {

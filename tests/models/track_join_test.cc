@@ -225,6 +225,36 @@ TEST(TrackJoin, ALogThatStartsAfterTheFirstFrameIsAnError) {
       << e;
 }
 
+TEST(TrackJoin, ALogOnAnotherClockJoinsWithItsOffset) {
+  // The same log with every time 100 s earlier (a servo log started at its own zero): with
+  // clock_offset_s = 100 each row takes the same command as with the camera's clock, and the
+  // written times stay the camera's.
+  const std::string det = detections({track_rows("1", "tracer", 0, 79, 0.2, 0.1, 0.3, 0.0)});
+  const std::string shifted =
+      "t,pan_deg,tilt_deg\n"
+      "-100,30,10\n"
+      "-99.5,30,10\n"
+      "-99.25,60,20\n"
+      "-98.5,90,40\n";
+  TrackJoinOptions o;
+  o.clock_offset_s = 100.0;
+  const TrackJoinResult a = join(det, shifted, o), b = join(det, kLog);
+  EXPECT_EQ(trajectory_csv(a.set), trajectory_csv(b.set));
+  EXPECT_EQ(a.report.command_changes, b.report.command_changes);
+  // Without the offset the log would have ended long before the recording: one command for all.
+  const TrackJoinResult c = join(det, shifted);
+  for (const TrajectorySample& sample : c.set.trajectories[0].samples) {
+    EXPECT_NEAR(rad_to_deg(sample.nozzle.pan_rad), 90, 1e-12);
+  }
+  // A log that starts after the recording on the camera's clock says both times.
+  o.clock_offset_s = 100.5;
+  const std::string e = error_of(det, shifted, o);
+  EXPECT_NE(e.find("the first command is at -100.000000 s (0.500000 s on the camera's clock), "
+                   "after the recording's first frame"),
+            std::string::npos)
+      << e;
+}
+
 std::string parse_error(const std::string& text) {
   try {
     parse_detections_csv(text, "d.csv");
@@ -293,6 +323,9 @@ TEST(TrackJoin, OptionsAreCheckedByField) {
   o = {};
   o.object = "pebble";
   EXPECT_EQ(field_of(o), "track_join.object");
+  o = {};
+  o.clock_offset_s = INFINITY;
+  EXPECT_EQ(field_of(o), "track_join.clock_offset_s");
 }
 
 TEST(TrackJoin, SameInputSameOutput) {

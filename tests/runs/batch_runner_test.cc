@@ -11,6 +11,7 @@
 
 #include "common/csv.h"
 #include "common/errors.h"
+#include "models/track_join.h"
 #include "runs/batch_report.h"
 #include "sim/scene_builder.h"
 #include "tests/support/scratch_dir.h"
@@ -99,11 +100,20 @@ TEST(BatchRunner, VisionRunsInTwoThreadsGiveTheRecordsOfOne) {
   const ModelPtr m = load_model_from_xml(scene_xml(SceneSpec{}, SceneParameters{}, 0), "test");
   BatchRunOptions options;
   options.run.vision_camera = testing::camera_from_truth(GroundTruthCamera::from_model(m.get()));
+  options.keep_logs = true;
   const auto [a, b] = with_one_and_two_jobs(dir, plan, options);
   ASSERT_EQ(a.records.size(), 2u);
   for (const RunRecord& r : a.records) {
     EXPECT_EQ(r.perception, "vision");
     EXPECT_GT(r.vision_detections, 0);
+    // The logs keep what the camera detected, as `detect` writes it, one row per detection, the
+    // same bytes from either thread count; and the nozzle's log beside it.
+    const std::string stem = "/runs/line_short/seed-" + std::to_string(r.key.seed);
+    const std::string detections = dir + "/one" + stem + ".detections.csv";
+    const DetectionTable table = read_detections_csv(detections);
+    EXPECT_EQ(static_cast<int>(table.rows.size()), r.vision_detections);
+    EXPECT_EQ(read_text_file(detections), read_text_file(dir + "/two" + stem + ".detections.csv"));
+    EXPECT_TRUE(fs::is_regular_file(dir + "/one" + stem + ".nozzle.csv"));
   }
   EXPECT_EQ(runs_csv(a.records), runs_csv(b.records));
 }

@@ -65,13 +65,14 @@ TEST(BatchStore, FinishedRunsAreTheReadableRecords) {
   const std::string dir = fresh_scratch_dir("records");
   const BatchStore store(dir, manifest(3));
   EXPECT_FALSE(store.load({"line", 1}).has_value());
-  RunLogs logs{"t,x\n", "t,ref\n", "t,id\n", "t,pan,tilt\n"};
+  RunLogs logs{"t,x\n", "t,ref\n", "t,id\n", "t,pan,tilt\n", "frame,t,id\n"};
   store.commit({"line", 1}, record(1), &logs);
   store.commit({"line", 2}, record(2), nullptr);
   ASSERT_TRUE(store.load({"line", 1}).has_value());
   EXPECT_EQ(store.load({"line", 1})->key, (RunKey{"line", 1}));
   EXPECT_EQ(read_text_file(dir + "/runs/line/seed-1.log.csv"), "t,x\n");
   EXPECT_EQ(read_text_file(dir + "/runs/line/seed-1.nozzle.csv"), "t,pan,tilt\n");
+  EXPECT_EQ(read_text_file(dir + "/runs/line/seed-1.detections.csv"), "frame,t,id\n");
   EXPECT_EQ(store.record_path({"line", 2}), dir + "/runs/line/seed-2.json");
 
   // A damaged record, or one holding another run, is not finished and says why.
@@ -99,20 +100,23 @@ TEST(BatchStore, ReopeningRemovesWhatAKilledWriterLeft) {
 TEST(BatchStore, CopiesARunWithItsLogs) {
   const std::string a = fresh_scratch_dir("copy_a"), b = fresh_scratch_dir("copy_b");
   const BatchStore from(a, manifest(2)), to(b, manifest(2));
-  RunLogs logs{"log\n", "decisions\n", "plans\n", "nozzle\n"};
+  RunLogs logs{"log\n", "decisions\n", "plans\n", "nozzle\n", "detections\n"};
   from.commit({"line", 2}, record(2), &logs);
   to.copy_run(from, {"line", 2});
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.json"), record(2));
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.decisions.csv"), "decisions\n");
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.plans.csv"), "plans\n");
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.nozzle.csv"), "nozzle\n");
-  // A run logged before plans.csv and nozzle.csv existed is copied without them.
-  RunLogs old_logs{"log\n", "decisions\n", "", ""};
+  EXPECT_EQ(read_text_file(b + "/runs/line/seed-2.detections.csv"), "detections\n");
+  // A run logged before plans.csv and nozzle.csv existed, without vision, is copied without
+  // them.
+  RunLogs old_logs{"log\n", "decisions\n", "", "", ""};
   from.commit({"line", 1}, record(1), &old_logs);
   to.copy_run(from, {"line", 1});
   EXPECT_EQ(read_text_file(b + "/runs/line/seed-1.decisions.csv"), "decisions\n");
   EXPECT_FALSE(fs::exists(b + "/runs/line/seed-1.plans.csv"));
   EXPECT_FALSE(fs::exists(b + "/runs/line/seed-1.nozzle.csv"));
+  EXPECT_FALSE(fs::exists(b + "/runs/line/seed-1.detections.csv"));
 }
 
 }  // namespace
