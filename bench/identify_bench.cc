@@ -8,6 +8,10 @@
 //                          conversion to continuous time, end-position replay.
 // BM_SindyOnly:            robust E-SINDy (15 bootstraps) on the prepared speed pairs.
 // BM_SpeedPairsOnly:       the preprocessing alone.
+// The first two run each solver (SindyOptions::solver): kFast, the default, and kReference, the
+// literal robustfit iteration it is checked against. Their counters dxi_ref / dxid_ref are the
+// largest absolute difference of the continuous / discrete coefficients from the reference
+// solver's on the same data (computed once, outside the timing; 0 for the reference itself).
 
 #include <benchmark/benchmark.h>
 
@@ -57,36 +61,54 @@ const TrajectorySet& data() {
   return set;
 }
 
-// Arg: bootstraps fitted in parallel (1: one thread, the reference; 0: every core).
+SindySolver solver_arg(const benchmark::State& state) {
+  return state.range(1) ? SindySolver::kReference : SindySolver::kFast;
+}
+
+// Args: {threads, solver}: bootstraps fitted in parallel (1: one thread; 0: every core), solver
+// (0: kFast, 1: kReference).
+void threads_and_solvers(benchmark::internal::Benchmark* b) {
+  b->Args({1, 0})->Args({0, 0})->Args({1, 1})->Args({0, 1});
+  b->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+}
+
 void BM_IdentifyTrajectories(benchmark::State& state) {
   const TrajectorySet& set = data();
   IdentificationOptions o;  // robust-esindy, 15 bootstraps
   o.sindy.threads = static_cast<int>(state.range(0));
+  o.sindy.solver = solver_arg(state);
+  IdentificationOptions ref = o;
+  ref.sindy.solver = SindySolver::kReference;
+  const IdentifiedModel a = identify_trajectories(set, "tracer", field(), o),
+                        b = identify_trajectories(set, "tracer", field(), ref);
   for (auto _ : state) {
     const IdentifiedModel m = identify_trajectories(set, "tracer", field(), o);
     benchmark::DoNotOptimize(m.coefficients);
-    state.counters["xi1"] = m.coefficients[1];
-    state.counters["xi2"] = m.coefficients[2];
-    state.counters["xi3"] = m.coefficients[0];
-    state.counters["noise_mm"] = 1e3 * m.position_noise_m;
-    state.counters["end_mape_pct"] = m.end_position_mape_pct.value_or(-1);
-    state.counters["pairs"] = static_cast<double>(m.n_pairs);
   }
+  state.counters["xi1"] = a.coefficients[1];
+  state.counters["xi2"] = a.coefficients[2];
+  state.counters["xi3"] = a.coefficients[0];
+  state.counters["dxi_ref"] = (a.coefficients - b.coefficients).cwiseAbs().maxCoeff();
+  state.counters["dxid_ref"] = (a.discrete - b.discrete).cwiseAbs().maxCoeff();
+  state.counters["noise_mm"] = 1e3 * a.position_noise_m;
+  state.counters["end_mape_pct"] = a.end_position_mape_pct.value_or(-1);
+  state.counters["pairs"] = static_cast<double>(a.n_pairs);
 }
-BENCHMARK(BM_IdentifyTrajectories)
-    ->Arg(1)
-    ->Arg(0)
-    ->Unit(benchmark::kMillisecond)
-    ->MinTime(2.0)
-    ->UseRealTime();
+BENCHMARK(BM_IdentifyTrajectories)->Apply(threads_and_solvers);
 
 void BM_SindyOnly(benchmark::State& state) {
   const SpeedPairs d = speed_pairs_from_trajectories(data(), field(), SpeedPairOptions{}, nullptr);
   SindyOptions o;
   o.threads = static_cast<int>(state.range(0));
+  o.solver = solver_arg(state);
+  SindyOptions ref = o;
+  ref.solver = SindySolver::kReference;
+  const SindyResult a = identify_sindy(d, o), b = identify_sindy(d, ref);
   for (auto _ : state) benchmark::DoNotOptimize(identify_sindy(d, o).continuous);
+  state.counters["dxi_ref"] = (a.continuous - b.continuous).cwiseAbs().maxCoeff();
+  state.counters["dxid_ref"] = (a.discrete - b.discrete).cwiseAbs().maxCoeff();
 }
-BENCHMARK(BM_SindyOnly)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK(BM_SindyOnly)->Apply(threads_and_solvers);
 
 void BM_SpeedPairsOnly(benchmark::State& state) {
   for (auto _ : state) {

@@ -50,8 +50,21 @@ const char* sindy_method_name(SindyMethod m);
 /// persistence v_{k+1} ~ v_k of eq. 6, so no model is possible without it).
 std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list);
 
+/// How the regressions are computed; both give the same model to rounding (discrete coefficients
+/// within 1e-6; tests/models/sindy_test.cc, bench/identify_bench.cc).
+/// kFast: a bootstrap is its distinct rows with their multiplicities as weights (no copied rows);
+///   each stepwise refit's IRLS starts from the weights the previous refit ended with; leverages
+///   from the triangular factor of a QR; the weighted normal equations by a tiled kernel; the
+///   scale's order statistics selected near the last one; the one-step flow for the
+///   continuous-time fit evaluated over all pairs at once with the rate as a polynomial in v.
+/// kReference: MATLAB robustfit's iteration literally, as bisquare_fit: every refit from ordinary
+///   least squares on the bootstrap's copied rows, leverages from the explicit Q, the flow by
+///   sindy_flow_step pair by pair. About 3-4 times slower; kept to check kFast against.
+enum class SindySolver { kFast, kReference };
+
 struct SindyOptions {
   SindyMethod method = SindyMethod::kRobustEsindy;
+  SindySolver solver = SindySolver::kFast;
   /// The library terms the regression may use (all by default). Fewer: prior knowledge of the
   /// structure, e.g. {1, v, vair} for eq. (8) when the data cannot tell structures apart.
   std::array<bool, kSindyTerms> terms = {true, true, true, true, true,
