@@ -17,7 +17,7 @@ constexpr int kCompassSweeps = 6;  // most moves at one step size
 // moves by the screening step's error, which is small against the differences between grid
 // points but can swap near-equal neighbours.
 constexpr size_t kGridFinalists = 4;
-constexpr double kRefineTolerance = 1e-4;
+constexpr double kRefineTolerance = 1e-3;
 constexpr int kScreenedCompassLevels = 2;  // the compass's levels ranked at the screening step
 
 // Levenberg-Marquardt over the training residuals, finite differences in fit coordinates.
@@ -173,7 +173,7 @@ int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
                      static_cast<int>(ev.residual_count(train)));
   Eigen::LevenbergMarquardt<FitFunctor> lm(functor);
   lm.setMaxfev(max_iterations);
-  // Stop when a step changes the cost or the coordinates by less than 1e-4 relative: where
+  // Stop when a step changes the cost or the coordinates by less than 1e-3 relative: where
   // objects start and stop the cost is stepwise, and below that Levenberg-Marquardt only spends
   // its budget on the steps' noise.
   lm.setFtol(kRefineTolerance);

@@ -160,7 +160,14 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   const double h = step_;
   size_t next = 0;
   while (next < times_s.size() && times_s[next] <= t) (*positions)[next++] = object.p;
+  // From here on the field no longer changes: an object held at rest then stays where it is.
+  const double settled_s =
+      timeline.settled_from_s() + timeline.parameters().transit_delay_s + ext.extra_delay_s;
   while (next < times_s.size()) {
+    if (object.held && have_field && t > settled_s) {
+      while (next < times_s.size()) (*positions)[next++] = object.p;
+      break;
+    }
     // The field follows the nozzle: a new one when the orientation it follows has changed.
     const NozzleOrientation o = field_orientation(ext, timeline, t);
     if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {

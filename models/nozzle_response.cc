@@ -119,6 +119,9 @@ NozzleTimeline::NozzleTimeline(const NozzleResponseParameters& params,
     pan_[k] = pan;
     tilt_[k] = tilt;
   }
+  size_t last = n - 1;
+  while (last > 0 && pan_[last - 1] == pan_[n - 1] && tilt_[last - 1] == tilt_[n - 1]) --last;
+  settled_from_s_ = t0_ + step_ * static_cast<double>(last);
 }
 
 NozzleOrientation NozzleTimeline::actual(double t_s) const {

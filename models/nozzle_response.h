@@ -58,6 +58,9 @@ class NozzleTimeline {
   NozzleOrientation effective(double t_s, double extra_delay_s = 0.0) const;
   /// Whether the actual orientation is constant over [t0_s, t1_s] (no servo motion inside).
   bool at_rest_between(double t0_s, double t1_s) const;
+  /// The time from which the actual orientation no longer changes (the last servo motion's end;
+  /// the start when it never moves).
+  double settled_from_s() const { return settled_from_s_; }
 
   double t_end_s() const { return t0_ + step_ * static_cast<double>(pan_.size() - 1); }
   const NozzleResponseParameters& parameters() const { return params_; }
@@ -66,6 +69,7 @@ class NozzleTimeline {
   NozzleResponseParameters params_;
   double t0_ = 0.0, step_ = 1e-3;
   std::vector<double> pan_, tilt_;  // actual orientation at t0 + k step
+  double settled_from_s_ = 0.0;
 };
 
 /// One servo axis over one step h (s): `angle` (rad) and `rate` (rad/s) move toward `target`

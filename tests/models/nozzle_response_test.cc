@@ -78,6 +78,21 @@ TEST(NozzleResponse, FieldFollowsAfterTheTransitAndExtraDelay) {
   EXPECT_TRUE(tl.at_rest_between(2.0, 3.0));
 }
 
+TEST(NozzleResponse, SettlesWhenTheLastMoveEnds) {
+  // The pan's 1 rad move is the longer (the tilt's 0.2 rad ends first): settled when the pan
+  // arrives (found by a scan, to a 1 ms step), about the trapezoid's time after the command (the
+  // stepped profile's tolerance above).
+  const NozzleResponseParameters p;
+  const NozzleTimeline tl(p, {{0.0, {0.0, 0.0}}, {0.5, {1.0, 0.2}}}, 3.0);
+  const double t = tl.settled_from_s();
+  EXPECT_NEAR(t, arrival(tl, 1.0, 3.0), 1e-3);
+  EXPECT_NEAR(t, 0.5 + trapezoid_time(1.0, p.max_speed_radps, p.max_acceleration_radps2), 0.02);
+  EXPECT_TRUE(tl.at_rest_between(t, 3.0));
+  EXPECT_FALSE(tl.at_rest_between(t - 2e-3, 3.0));
+  // A nozzle that never moves is settled from the start.
+  EXPECT_EQ(NozzleTimeline(p, {{0.25, {0.3, 0.1}}}, 2.0).settled_from_s(), 0.25);
+}
+
 TEST(NozzleResponse, RejectsBadInput) {
   NozzleResponseParameters p;
   p.max_speed_radps = 0.0;
