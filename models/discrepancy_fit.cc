@@ -20,6 +20,28 @@ constexpr size_t kGridFinalists = 4;
 constexpr double kRefineTolerance = 1e-3;
 constexpr int kScreenedCompassLevels = 2;  // the compass's levels ranked at the screening step
 
+// One level of a compass search: sweeps of moves by +-step[i] along coordinate first + i of *x,
+// each kept when it lowers *x_cost, until a sweep moves nothing (at most kCompassSweeps).
+template <typename Cost>
+void compass_level(const Cost& cost, const std::vector<double>& step, size_t first,
+                   std::vector<double>* x, double* x_cost) {
+  for (int sweep = 0, moved = 1; moved && sweep < kCompassSweeps; ++sweep) {
+    moved = 0;
+    for (size_t i = 0; i < step.size(); ++i) {
+      for (const double sign : {1.0, -1.0}) {
+        std::vector<double> trial = *x;
+        trial[first + i] += sign * step[i];
+        const double c = cost(trial);
+        if (c < *x_cost) {
+          *x_cost = c;
+          *x = trial;
+          moved = 1;
+        }
+      }
+    }
+  }
+}
+
 // Levenberg-Marquardt over the training residuals, finite differences in fit coordinates.
 struct FitFunctor : Eigen::DenseFunctor<double> {
   FitFunctor(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
@@ -201,21 +223,7 @@ int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
   };
   double best = cost(*x);
   for (int level = 0; level < kCompassLevels; ++level) {
-    for (int sweep = 0, moved = 1; moved && sweep < kCompassSweeps; ++sweep) {
-      moved = 0;
-      for (size_t i = 0; i < x->size(); ++i) {
-        for (const double sign : {1.0, -1.0}) {
-          std::vector<double> trial = *x;
-          trial[i] += sign * step[i];
-          const double c = cost(trial);
-          if (c < best) {
-            best = c;
-            *x = trial;
-            moved = 1;
-          }
-        }
-      }
-    }
+    compass_level(cost, step, 0, x, &best);
     for (double& h : step) h *= 0.5;
   }
   if (max_iterations <= 0) return evaluations;
@@ -350,20 +358,10 @@ FitResult fit_extensions(const Evaluator& ev, const std::vector<size_t>& train,
       }
     }
     if (level == kScreenedCompassLevels) level_cost = best.sse;
-    for (int sweep = 0, moved = 1; moved && sweep < kCompassSweeps; ++sweep) {
-      moved = 0;
-      for (size_t i = 0; i < grid.size(); ++i) {
-        for (const double sign : {1.0, -1.0}) {
-          std::vector<double> trial = best_x;
-          trial[fixed + i] += sign * step[i];
-          const double c = screened ? screen_cost(trial) : cost(trial);
-          if (c < level_cost) {
-            level_cost = c;
-            best_x = trial;
-            moved = 1;
-          }
-        }
-      }
+    if (screened) {
+      compass_level(screen_cost, step, fixed, &best_x, &level_cost);
+    } else {
+      compass_level(cost, step, fixed, &best_x, &level_cost);
     }
     if (!screened) best.sse = level_cost;
     for (double& h : step) h *= 0.5;
