@@ -707,15 +707,16 @@ def read_set(folder, setname):
     return pts, data
 
 
-def git_commit_of(path):
+def git_commit_of(path, gen=("scripts/cfd/cfdcase.py", "scripts/cfd/run_all.sh")):
+    """The last commit of the generator's files (default: the steady campaign's case writer and
+    runner, not the analysis or benchmark scripts), "-modified" if they differ from it."""
     try:
         top = subprocess.run(["git", "-C", path, "rev-parse", "--show-toplevel"], capture_output=True,
                              text=True, check=True).stdout.strip()
-        # the generator proper: the case writer and the runner (not the analysis or benchmark scripts)
-        gen = ["scripts/cfd/cfdcase.py", "scripts/cfd/run_all.sh"]
-        h = subprocess.run(["git", "-C", top, "log", "-1", "--format=%H", "--"] + gen,
+        h = subprocess.run(["git", "-C", top, "log", "-1", "--format=%H", "--"] + list(gen),
                            capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", top, "status", "--porcelain", "--untracked-files=no", "--"] + gen,
+        dirty = subprocess.run(["git", "-C", top, "status", "--porcelain", "--untracked-files=no", "--"]
+                               + list(gen),
                                capture_output=True, text=True, check=True).stdout.strip()
         return h + ("-modified" if dirty else "") if h else "uncommitted"
     except (subprocess.CalledProcessError, FileNotFoundError):

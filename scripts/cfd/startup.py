@@ -1,0 +1,412 @@
+#!/usr/bin/python3
+"""The jet's start-up: a transient axisymmetric RANS of the rig's jet switched on over a still floor
+(docs/cfd.md, "The jet's start-up"). It measures what the steady campaign cannot: how long the free
+jet takes to reach the floor, how fast the wall jet's front runs out along it, and when the floor
+field is steady (the paper's Appendix B: "approximately 8 seconds").
+
+Subcommands (used by startup.sh):
+  write   DIR          the case: wedge blockMesh, 0/ fields, PIMPLE dictionaries, probes
+  progress DIR         one line: simulated time, time step, wall clock per simulated second
+  convert DIR OUTDIR   probes -> OUTDIR/startup_tilt00_d40.json and _floor.csv, _axis.csv
+Debian's /usr/bin/python3 with numpy only.
+"""
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+from cfdcase import (CMU, EPS_AMB, H, INTENSITY, K_AMB, K_KIN, LSCALE, NU, git_commit_of, grading,
+                     write_file)
+
+NAME = "startup_tilt00_d40"
+D = 0.040                 # inlet diameter (m): the same momentum flux as the rig's nozzle, see below
+WEDGE_DEG = 5.0           # the axisymmetric wedge's opening
+R_MAX = 2.0               # domain radius (m)
+Z_TOP = 2.0               # domain top (m)
+H_CORE = 0.004            # cell size across the inlet and at the exit (m): D / 10
+END_TIME = 15.0           # simulated seconds; the paper's CFD was steady at ~8 s
+MAX_CO = 2.0              # Courant number the adaptive time step keeps to
+VALVE_S = 0.02            # the inlet speed ramps from 0 to its value over this time (a valve opening)
+PROBE_DT = 0.02           # probe sampling interval (s)
+FIELD_DT = 0.5            # full fields written this often (restart points)
+FLOOR_R = np.round(np.arange(0.01, 1.50, 0.02), 4)
+FLOOR_Z = [0.004, 0.015, 0.025]
+AXIS_Z = np.round(np.arange(0.05, 1.401, 0.05), 4)
+AXIS_R = 0.001            # probes 1 mm off the axis (a wedge's axis itself samples badly)
+
+
+def inlet_state():
+    """Inlet speed, k and epsilon for the momentum flux of the real nozzle through diameter D."""
+    u = math.sqrt(4.0 * K_KIN / math.pi) / D
+    k = 1.5 * (INTENSITY * u) ** 2
+    eps = CMU ** 0.75 * k ** 1.5 / (LSCALE * D)
+    return u, k, eps
+
+
+def wedge_point(r, z, side):
+    a = math.radians(0.5 * WEDGE_DEG)
+    return (r * math.cos(a), side * r * math.sin(a), z)
+
+
+def block_mesh():
+    """Three blocks in (r, z): A under the exit (0..D/2, floor..exit), B beside it (D/2..R_MAX,
+    floor..exit) and C beside the rod (D/2..R_MAX, exit..top). A's axis edge is collapsed."""
+    r1 = 0.5 * D
+    pts, index = [], {}
+
+    def vid(r, z, side):
+        key = (r, z, 0 if r == 0.0 else side)
+        if key not in index:
+            index[key] = len(pts)
+            pts.append(wedge_point(r, z, side))
+        return index[key]
+
+    def hexa(ra, rb, za, zb):
+        return [vid(ra, za, -1), vid(rb, za, -1), vid(rb, za, 1), vid(ra, za, 1),
+                vid(ra, zb, -1), vid(rb, zb, -1), vid(rb, zb, 1), vid(ra, zb, 1)]
+
+    A = hexa(0.0, r1, 0.0, H)
+    B = hexa(r1, R_MAX, 0.0, H)
+    C = hexa(r1, R_MAX, H, Z_TOP)
+    n_core = int(round(r1 / H_CORE))
+    n_r, g_r = grading([(0.15 - r1, H_CORE, 0.01), (1.05, 0.01, 0.02), (R_MAX - 1.2, 0.02, 0.08)])
+    n_z, g_z = grading([(0.15, 0.004, 0.015), (H - 0.15 - 0.13, 0.015, 0.02), (0.13, 0.02, H_CORE)])
+    n_t, g_t = grading([(Z_TOP - H, H_CORE, 0.06)])
+
+    def face(b, which):
+        local = {"bottom": (0, 3, 2, 1), "top": (4, 5, 6, 7), "rmin": (0, 4, 7, 3), "rmax": (1, 2, 6, 5),
+                 "front": (0, 1, 5, 4), "back": (3, 7, 6, 2)}[which]
+        return "(%s)" % " ".join(str(b[i]) for i in local)
+
+    def patch(name, kind, faces):
+        return "    %s\n    {\n        type %s;\n        faces\n        (\n%s        );\n    }\n" % (
+            name, kind, "".join("            %s\n" % f for f in faces))
+
+    body = "scale 1;\n\nvertices\n(\n" + "".join("    (%.9g %.9g %.9g)\n" % p for p in pts) + ");\n\n"
+    body += "blocks\n(\n"
+    body += "    hex (%s) (%d 1 %d) simpleGrading (1 1 %s)\n" % (" ".join(map(str, A)), n_core, n_z, g_z)
+    body += "    hex (%s) (%d 1 %d) simpleGrading (%s 1 %s)\n" % (" ".join(map(str, B)), n_r, n_z, g_r, g_z)
+    body += "    hex (%s) (%d 1 %d) simpleGrading (%s 1 %s)\n" % (" ".join(map(str, C)), n_r, n_t, g_r, g_t)
+    body += ");\n\nedges\n(\n);\n\nboundary\n(\n"
+    body += patch("inlet", "patch", [face(A, "top")])
+    body += patch("rod_wall", "wall", [face(C, "rmin")])
+    body += patch("floor", "wall", [face(A, "bottom"), face(B, "bottom")])
+    body += patch("atmosphere", "patch", [face(B, "rmax"), face(C, "rmax"), face(C, "top")])
+    body += patch("front", "wedge", [face(b, "front") for b in (A, B, C)])
+    body += patch("back", "wedge", [face(b, "back") for b in (A, B, C)])
+    body += ");\n\nmergePatchPairs\n(\n);\n"
+    cells = n_core * n_z + n_r * n_z + n_r * n_t
+    return body, cells
+
+
+CONTROL = """application     pimpleFoam;
+startFrom       latestTime;
+startTime       0;
+stopAt          endTime;
+endTime         %(end)g;
+deltaT          1e-5;
+adjustTimeStep  yes;
+maxCo           %(co)g;
+maxDeltaT       0.01;
+writeControl    adjustableRunTime;
+writeInterval   %(field_dt)g;
+purgeWrite      2;
+writeFormat     binary;
+writePrecision  8;
+writeCompression off;
+timeFormat      general;
+timePrecision   8;
+runTimeModifiable false;
+
+functions
+{
+%(probes)s}
+"""
+
+SCHEMES = """ddtSchemes { default Euler; }
+
+gradSchemes
+{
+    default         Gauss linear;
+    grad(U)         cellLimited Gauss linear 1;
+}
+
+divSchemes
+{
+    default         none;
+    div(phi,U)      Gauss linearUpwind grad(U);
+    div(phi,k)      Gauss upwind;
+    div(phi,epsilon) Gauss upwind;
+    div((nuEff*dev2(T(grad(U))))) Gauss linear;
+}
+
+laplacianSchemes { default Gauss linear limited corrected 0.5; }
+interpolationSchemes { default linear; }
+snGradSchemes { default limited corrected 0.5; }
+wallDist { method meshWave; }
+"""
+
+SOLUTION = """solvers
+{
+    p
+    {
+        solver          GAMG;
+        smoother        GaussSeidel;
+        tolerance       1e-6;
+        relTol          0.01;
+    }
+    pFinal
+    {
+        $p;
+        relTol          0;
+    }
+    "(U|k|epsilon)"
+    {
+        solver          smoothSolver;
+        smoother        symGaussSeidel;
+        tolerance       1e-7;
+        relTol          0.1;
+    }
+    "(U|k|epsilon)Final"
+    {
+        $U;
+        relTol          0;
+    }
+}
+
+PIMPLE
+{
+    momentumPredictor yes;
+    nOuterCorrectors 1;
+    nCorrectors     2;
+    nNonOrthogonalCorrectors 0;
+}
+
+relaxationFactors
+{
+    equations { ".*" 1; }
+}
+"""
+
+
+def probes_entry(name, fields, pts):
+    s = "    %s\n    {\n        type probes;\n        libs (\"libsampling.so\");\n" % name
+    s += "        executeControl adjustableRunTime;\n        executeInterval %g;\n" % PROBE_DT
+    s += "        writeControl adjustableRunTime;\n        writeInterval %g;\n" % PROBE_DT
+    s += "        fields (%s);\n        probeLocations\n        (\n" % " ".join(fields)
+    s += "".join("            (%.6f 0 %.6f)\n" % p for p in pts)
+    return s + "        );\n    }\n"
+
+
+def floor_points():
+    return [(r, z) for z in FLOOR_Z for r in FLOOR_R]
+
+
+def axis_points():
+    return [(AXIS_R, z) for z in AXIS_Z]
+
+
+def ramp(value_at):
+    """uniformFixedValue table over the valve's opening: value_at(f) at t = f VALVE_S, f = 0..1."""
+    n = 10
+    return " ".join("(%.6g %s)" % (VALVE_S * i / n, value_at(i / n)) for i in range(n + 1))
+
+
+def cmd_write(case_dir):
+    bm, cells = block_mesh()
+    write_file(os.path.join(case_dir, "system/blockMeshDict"), "dictionary", "blockMeshDict", bm)
+    probes = probes_entry("floor", ["U", "k", "epsilon"], floor_points())
+    probes += probes_entry("axis", ["U"], axis_points())
+    write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
+               CONTROL % {"end": END_TIME, "co": MAX_CO, "field_dt": FIELD_DT, "probes": probes})
+    write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES)
+    write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION)
+    write_file(os.path.join(case_dir, "constant/transportProperties"), "dictionary",
+               "transportProperties", "transportModel Newtonian;\nnu [0 2 -1 0 0 0 0] %g;\n" % NU)
+    write_file(os.path.join(case_dir, "constant/turbulenceProperties"), "dictionary",
+               "turbulenceProperties",
+               "simulationType RAS;\nRAS\n{\n    RASModel kEpsilon;\n    turbulence on;\n"
+               "    printCoeffs on;\n}\n")
+    u, k_in, eps_in = inlet_state()
+    zero = os.path.join(case_dir, "0")
+    wedge = "    \"(front|back)\"\n    {\n        type wedge;\n    }\n"
+    walls = "    \"(floor|rod_wall)\"\n    {\n        type %s;\n%s    }\n"
+    write_file(os.path.join(zero, "U"), "volVectorField", "U",
+               "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
+               "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+               "        value uniform (0 0 0);\n    }\n" % ramp(lambda f: "(0 0 %.9g)" % (-f * u))
+               + walls % ("noSlip", "") + wedge +
+               "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
+               "        value uniform (0 0 0);\n    }\n}\n")
+    write_file(os.path.join(zero, "p"), "volScalarField", "p",
+               "dimensions [0 2 -2 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
+               "    \"(inlet|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" + wedge +
+               "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
+               "        value uniform 0;\n    }\n}\n")
+    for fld, dims, inl, pw, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_in, 2, K_AMB, "kqRWallFunction"),
+                                        ("epsilon", "[0 2 -3 0 0 0 0]", eps_in, 3, EPS_AMB,
+                                         "epsilonWallFunction")):
+        # the inlet's k and epsilon follow its speed (as U^2, U^3) from the ambient values up
+        write_file(os.path.join(zero, fld), "volScalarField", fld,
+                   "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
+                   "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+                   "        value uniform %g;\n    }\n"
+                   % (dims, amb, ramp(lambda f, inl=inl, pw=pw, amb=amb: "%.9g" % max(amb, inl * f ** pw)),
+                      amb)
+                   + walls % (wf, "        value uniform %g;\n" % amb) + wedge +
+                   "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
+                   "        value uniform %g;\n    }\n}\n" % (amb, amb))
+    write_file(os.path.join(zero, "nut"), "volScalarField", "nut",
+               "dimensions [0 2 -1 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
+               "    \"(inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
+               + walls % ("nutkWallFunction", "        value uniform 0;\n") + wedge + "}\n")
+    gen = ("scripts/cfd/startup.py", "scripts/cfd/startup.sh")
+    meta = {"case": NAME, "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
+            "cells": cells, "inlet_d_m": D, "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,
+            "momentum_flux_kinematic_m4_s2": K_KIN, "wedge_deg": WEDGE_DEG, "end_time_s": END_TIME,
+            "max_courant": MAX_CO, "valve_opening_s": VALVE_S}
+    with open(os.path.join(case_dir, "case.json"), "w") as fh:
+        json.dump(meta, fh, indent=1)
+    print("%s: %d cells, inlet %.1f m/s" % (NAME, cells, u))
+
+
+TIME_RE = re.compile(r"^Time = ([0-9.eE+-]+)", re.M)
+DT_RE = re.compile(r"^deltaT = ([0-9.eE+-]+)", re.M)
+CLOCK_RE = re.compile(r"ExecutionTime = ([0-9.]+) s", re.M)
+
+
+def cmd_progress(case_dir):
+    txt = ""
+    for fn in sorted(os.listdir(case_dir)):
+        if fn.startswith("log.pimpleFoam"):
+            txt = open(os.path.join(case_dir, fn), errors="replace").read()
+    times = [float(v) for v in TIME_RE.findall(txt)]
+    dts = DT_RE.findall(txt)
+    clocks = [float(v) for v in CLOCK_RE.findall(txt)]
+    if not times:
+        print("not started")
+        return
+    parts = ["t %.3f s of %g" % (times[-1], END_TIME)]
+    if dts:
+        parts.append("dt %.2e s" % float(dts[-1]))
+    if len(times) > 200 and len(clocks) > 200:
+        span = times[-1] - times[-201]
+        if span > 0:
+            parts.append("%.0f s wall per simulated s" % ((clocks[-1] - clocks[-201]) / span))
+    print(", ".join(parts))
+
+
+# ---------------------------------------------------------------- conversion
+def read_probe_series(pp_dir, field, n):
+    """Every restart's file of one probed field, merged by time (a restart repeats nothing kept)."""
+    rows = {}
+    if not os.path.isdir(pp_dir):
+        sys.exit("startup: no probes in %s" % pp_dir)
+    for start in sorted(os.listdir(pp_dir), key=float):
+        path = os.path.join(pp_dir, start, field)
+        if not os.path.exists(path):
+            continue
+        for line in open(path):
+            if line.startswith("#") or not line.strip():
+                continue
+            vals = line.replace("(", " ").replace(")", " ").split()
+            t = round(float(vals[0]), 6)
+            data = np.array(vals[1:], dtype=float)
+            if data.size % n:
+                sys.exit("startup: %s: %d values at t %g, expected a multiple of %d probes" %
+                         (path, data.size, t, n))
+            rows[t] = data.reshape(n, -1)
+    if not rows:
+        sys.exit("startup: no %s samples in %s" % (field, pp_dir))
+    times = np.array(sorted(rows))
+    return times, np.stack([rows[t] for t in times])
+
+
+def first_crossing(t, y, level):
+    """First time y reaches level, linear between samples; None if it never does."""
+    above = np.nonzero(y >= level)[0]
+    if above.size == 0:
+        return None
+    i = above[0]
+    if i == 0:
+        return float(t[0])
+    return float(t[i - 1] + (level - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
+
+
+def settle_time(t, y, final, tol):
+    """Last time |y - final| exceeds tol * |final| (the field is within tol from then on)."""
+    out = np.nonzero(np.abs(y - final) > tol * abs(final))[0]
+    return float(t[out[-1] + 1]) if out.size and out[-1] + 1 < t.size else (float(t[0]) if not out.size
+                                                                              else None)
+
+
+def cmd_convert(case_dir, out_dir):
+    meta = json.load(open(os.path.join(case_dir, "case.json")))
+    fl = floor_points()
+    t, U = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "U", len(fl))
+    tk, K = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "k", len(fl))
+    ta, UA = read_probe_series(os.path.join(case_dir, "postProcessing/axis"), "U", len(axis_points()))
+    if t.size != tk.size:
+        sys.exit("startup: U and k probes disagree in their times")
+    if t[-1] < END_TIME - 1e-6:
+        sys.exit("startup: the run reached %g s of %g; finish it before converting" % (t[-1], END_TIME))
+    ur = U[:, :, 0]                     # radial (the wedge's centre plane is y = 0)
+    nr = len(FLOOR_R)
+    # the last second's mean is the steady state the start-up tends to
+    last = t >= END_TIME - 1.0
+    figures = {"floor": [], "axis": []}
+    for hi, z in enumerate(FLOOR_Z):
+        for ri, r in enumerate(FLOOR_R):
+            y = ur[:, hi * nr + ri]
+            final = float(y[last].mean())
+            entry = {"height_m": z, "r_m": float(r), "final_ur_m_s": final,
+                     "final_std_m_s": float(y[last].std())}
+            if abs(final) >= 0.3:
+                entry["arrival_s"] = first_crossing(t, np.sign(final) * y, 0.5 * abs(final))
+                entry["within_5pct_s"] = settle_time(t, y, final, 0.05)
+                entry["within_10pct_s"] = settle_time(t, y, final, 0.10)
+            figures["floor"].append(entry)
+    uz = -UA[:, :, 2]
+    for zi, z in enumerate(AXIS_Z):
+        final = float(uz[ta >= END_TIME - 1.0, zi].mean())
+        figures["axis"].append({"z_m": float(z), "final_uz_down_m_s": final,
+                                "arrival_s": first_crossing(ta, uz[:, zi], 0.5 * final)})
+    os.makedirs(out_dir, exist_ok=True)
+    meta["probe_interval_s"] = PROBE_DT
+    meta["figures"] = figures
+    with open(os.path.join(out_dir, NAME + ".json"), "w") as fh:
+        json.dump(meta, fh, indent=1)
+    # the floor's time series at every 0.05 s (2.5x the probe interval: the CSV stays small)
+    keep = np.nonzero(np.isclose((t / 0.05) - np.round(t / 0.05), 0.0, atol=1e-6))[0]
+    with open(os.path.join(out_dir, NAME + "_floor.csv"), "w") as fh:
+        fh.write("t,height_m,r_m,ur,uz,k\n")
+        for i in keep:
+            for hi, z in enumerate(FLOOR_Z):
+                for ri, r in enumerate(FLOOR_R):
+                    j = hi * nr + ri
+                    fh.write("%.2f,%.4f,%.3f,%.4f,%.4f,%.4f\n" % (t[i], z, r, U[i, j, 0], U[i, j, 2], K[i, j, 0]))
+    keep_a = np.nonzero(np.isclose((ta / 0.05) - np.round(ta / 0.05), 0.0, atol=1e-6))[0]
+    with open(os.path.join(out_dir, NAME + "_axis.csv"), "w") as fh:
+        fh.write("t,z_m,uz_down\n")
+        for i in keep_a:
+            for zi, z in enumerate(AXIS_Z):
+                fh.write("%.2f,%.3f,%.4f\n" % (ta[i], z, uz[i, zi]))
+    print("%s: %d samples to %.2f s" % (NAME, t.size, t[-1]))
+
+
+def main(argv):
+    if len(argv) == 3 and argv[1] == "write":
+        cmd_write(argv[2])
+    elif len(argv) == 3 and argv[1] == "progress":
+        cmd_progress(argv[2])
+    elif len(argv) == 4 and argv[1] == "convert":
+        cmd_convert(argv[2], argv[3])
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main(sys.argv)
