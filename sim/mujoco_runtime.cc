@@ -5,9 +5,20 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <sstream>
+
+#include <unistd.h>
 
 #include "common/errors.h"
+
+// MuJoCo 2.2.2 exports these (src/xml/xml_numeric_format.h, which Debian does not install): the
+// number of significant digits its XML writer prints, per thread, 6 unless set. MuJoCo's own
+// tests set 17 to save models that read back exactly.
+extern "C" int _mjPRIVATE__get_xml_precision();
+extern "C" void _mjPRIVATE__set_xml_precision(int precision);
 
 namespace airtwin {
 namespace {
@@ -52,35 +63,109 @@ ThreadWarnings take_thread_warnings() {
   return w;
 }
 
-ModelPtr load_model_from_xml(std::string_view xml, const std::string& source) {
-  install_mujoco_handlers();
-  // mjVFS holds 2000 file names of 1000 chars: far too big for the stack.
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* kFile = "airtwin_scene.xml";
-  // The text plus a terminating NUL, which the XML reader relies on.
-  AIRTWIN_DEMAND(mj_makeEmptyFileVFS(vfs.get(), kFile, static_cast<int>(xml.size() + 1)) == 0);
-  const int index = mj_findFileVFS(vfs.get(), kFile);
-  AIRTWIN_DEMAND(index >= 0);
-  char* file = static_cast<char*>(vfs->filedata[index]);
-  std::memcpy(file, xml.data(), xml.size());
-  file[xml.size()] = '\0';
+namespace {
 
-  char error[1024] = "";
-  mjModel* m = nullptr;
-  {
-    std::lock_guard<std::mutex> lock(load_mutex());
-    m = mj_loadXML(kFile, vfs.get(), error, sizeof(error));
-    // The compiler restores the handlers it found; make sure they are ours whatever it did.
-    mju_user_error = on_mujoco_error;
-    mju_user_warning = on_mujoco_warning;
+// An mjVFS holding `xml` under `name` and `files` under theirs. mjVFS holds 2000 file names of
+// 1000 chars: far too big for the stack.
+struct Vfs {
+  std::unique_ptr<mjVFS> vfs = std::make_unique<mjVFS>();
+  Vfs() { mj_defaultVFS(vfs.get()); }
+  ~Vfs() { mj_deleteVFS(vfs.get()); }
+  Vfs(const Vfs&) = delete;
+  Vfs& operator=(const Vfs&) = delete;
+
+  // Adds a file; `nul` appends a terminating NUL, which the XML reader relies on.
+  void add(const std::string& name, std::string_view bytes, bool nul) {
+    const size_t size = bytes.size() + (nul ? 1 : 0);
+    AIRTWIN_DEMAND(mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(size)) == 0);
+    const int index = mj_findFileVFS(vfs.get(), name.c_str());
+    AIRTWIN_DEMAND(index >= 0);
+    char* file = static_cast<char*>(vfs->filedata[index]);
+    std::memcpy(file, bytes.data(), bytes.size());
+    if (nul) file[bytes.size()] = '\0';
   }
-  mj_deleteVFS(vfs.get());
+};
+
+constexpr const char* kVfsScene = "airtwin_scene.xml";
+
+// mj_loadXML of `file` (from `vfs` if given) with our handlers restored afterwards; the caller
+// holds load_mutex(). Throws InputError naming `source`.
+ModelPtr load_locked(const char* file, const mjVFS* vfs, const std::string& source) {
+  char error[1024] = "";
+  mjModel* m = mj_loadXML(file, vfs, error, sizeof(error));
+  // The compiler restores the handlers it found; make sure they are ours whatever it did.
+  mju_user_error = on_mujoco_error;
+  mju_user_warning = on_mujoco_warning;
   if (!m) {
     throw InputError(source + ": MuJoCo cannot load the model: " +
                      (error[0] ? std::string(error) : std::string("unknown reason")));
   }
   return ModelPtr(m);
+}
+
+std::unique_ptr<Vfs> scene_vfs(std::string_view xml, const std::vector<ModelFile>& files) {
+  auto vfs = std::make_unique<Vfs>();
+  vfs->add(kVfsScene, xml, true);
+  for (const ModelFile& f : files) vfs->add(f.name, f.bytes, false);
+  return vfs;
+}
+
+}  // namespace
+
+ModelPtr load_model_from_xml(std::string_view xml, const std::string& source,
+                             const std::vector<ModelFile>& files) {
+  install_mujoco_handlers();
+  const std::unique_ptr<Vfs> vfs = scene_vfs(xml, files);
+  std::lock_guard<std::mutex> lock(load_mutex());
+  return load_locked(kVfsScene, vfs->vfs.get(), source);
+}
+
+ModelPtr load_model_from_file(const std::string& path) {
+  install_mujoco_handlers();
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InputError(path + ": cannot read the file (no such file)");
+  }
+  std::lock_guard<std::mutex> lock(load_mutex());
+  return load_locked(path.c_str(), nullptr, path);
+}
+
+std::string compiled_model_xml(std::string_view xml, const std::string& source,
+                               const std::vector<ModelFile>& files,
+                               const std::function<void(mjModel*)>& edit) {
+  install_mujoco_handlers();
+  const std::unique_ptr<Vfs> vfs = scene_vfs(xml, files);
+  // mj_saveLastXML writes the model the last mj_loadXML compiled (a process-wide one) to a file:
+  // load, edit and save under one lock, into a temporary file of our own.
+  struct TempFile {
+    std::string path = (std::filesystem::temp_directory_path() / "airtwin_mjcf_XXXXXX").string();
+    ~TempFile() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  } file;
+  const int fd = mkstemp(file.path.data());
+  if (fd < 0) throw InputError(file.path + ": cannot create a temporary file");
+  close(fd);
+  char error[1024] = "";
+  int saved = 0;
+  {
+    std::lock_guard<std::mutex> lock(load_mutex());
+    ModelPtr m = load_locked(kVfsScene, vfs->vfs.get(), source);
+    edit(m.get());
+    const int precision = _mjPRIVATE__get_xml_precision();
+    _mjPRIVATE__set_xml_precision(17);
+    saved = mj_saveLastXML(file.path.c_str(), m.get(), error, sizeof(error));
+    _mjPRIVATE__set_xml_precision(precision);
+    mj_freeLastXML();
+  }
+  std::ifstream in(file.path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!saved) {
+    throw InputError(source + ": MuJoCo cannot write the model: " +
+                     (error[0] ? std::string(error) : std::string("unknown reason")));
+  }
+  return text.str();
 }
 
 DataPtr make_data(const mjModel* m) {

@@ -17,10 +17,12 @@
 // loads are serialised by a process-wide mutex and the handlers are checked again afterwards.
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
@@ -56,9 +58,33 @@ struct MjDataDeleter {
 using ModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using DataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-/// Compiles MJCF text held in memory (through an mjVFS, no temporary file). `source` names the
-/// model in messages. Throws InputError "<source>: MuJoCo cannot load the model: <reason>".
-ModelPtr load_model_from_xml(std::string_view xml, const std::string& source);
+/// A file an MJCF model refers to by a relative name (a mesh), held in memory.
+struct ModelFile {
+  std::string name;   ///< as the MJCF names it, e.g. "hemisphere.stl"
+  std::string bytes;  ///< its contents
+};
+
+/// Compiles MJCF text held in memory (through an mjVFS, no temporary file), with the files it
+/// refers to. `source` names the model in messages. Throws InputError
+/// "<source>: MuJoCo cannot load the model: <reason>".
+ModelPtr load_model_from_xml(std::string_view xml, const std::string& source,
+                             const std::vector<ModelFile>& files = {});
+
+/// Compiles an MJCF file; the files it refers to are read relative to its folder. Throws
+/// InputError "<path>: MuJoCo cannot load the model: <reason>".
+ModelPtr load_model_from_file(const std::string& path);
+
+/// MuJoCo's own MJCF of a compiled model: compiles `xml` as load_model_from_xml does, lets
+/// `edit` change the compiled model's numbers, and writes the model back as MJCF (mj_saveLastXML:
+/// composites expanded into their bodies, joints, equalities and skins; positions, masses,
+/// inertias, geom sizes, friction, solver parameters and options copied back from the edited
+/// model, at 17 significant digits so that every double reads back exactly). What mj_saveLastXML
+/// does not copy back from an mjModel (collision masks among others) is written as compiled,
+/// not as edited. Meshes and skins given by vertex lists are printed at 6 digits (MuJoCo 2.2's
+/// writer), so meshes are best given as files. Throws InputError as load_model_from_xml.
+std::string compiled_model_xml(std::string_view xml, const std::string& source,
+                               const std::vector<ModelFile>& files,
+                               const std::function<void(mjModel*)>& edit);
 
 /// A fresh mjData for `m`; aborts (AIRTWIN_DEMAND) if MuJoCo cannot allocate it.
 DataPtr make_data(const mjModel* m);

@@ -1,8 +1,13 @@
 #include "sim/scene_builder.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -70,39 +75,59 @@ void validate_type_parameters(const ObjectTypeParameters& p, const std::string& 
   }
 }
 
-// The closed hemisphere (dome + flat face) as an MJCF mesh: radius r, flat face at z = 0.
-std::string hemisphere_mesh(double r) {
+// The tracer's visual mesh file, named in the MJCF and held in memory (or written beside an
+// exported scene): binary STL, whose 32-bit floats MuJoCo reads exactly.
+constexpr const char* kHemisphereFile = "hemisphere.stl";
+
+// The closed hemisphere (dome + flat face) as binary STL: radius r, flat face at z = 0, triangles
+// counter-clockwise seen from outside.
+std::string hemisphere_stl(double r) {
+  static_assert(std::endian::native == std::endian::little, "STL is little-endian");
   constexpr int kSegments = 24, kRings = 6;
-  std::ostringstream v, f;
   // Rings from the rim (ring 0, z = 0) up to just below the pole; then the pole and the centre of
   // the face.
+  std::vector<Eigen::Vector3f> v;
   for (int k = 0; k < kRings; ++k) {
     const double elevation = 0.5 * kPi * k / kRings;
     for (int j = 0; j < kSegments; ++j) {
       const double azimuth = 2.0 * kPi * j / kSegments;
-      v << num(r * std::cos(elevation) * std::cos(azimuth)) << ' '
-        << num(r * std::cos(elevation) * std::sin(azimuth)) << ' ' << num(r * std::sin(elevation))
-        << ' ';
+      v.emplace_back(static_cast<float>(r * std::cos(elevation) * std::cos(azimuth)),
+                     static_cast<float>(r * std::cos(elevation) * std::sin(azimuth)),
+                     static_cast<float>(r * std::sin(elevation)));
     }
   }
   const int pole = kRings * kSegments, centre = pole + 1;
-  v << "0 0 " << num(r) << " 0 0 0";
-  // Dome quads as two triangles each (counter-clockwise seen from outside), the cap fan, the face.
+  v.emplace_back(0.0f, 0.0f, static_cast<float>(r));
+  v.emplace_back(0.0f, 0.0f, 0.0f);
+  // Dome quads as two triangles each, the cap fan, the face.
+  std::vector<std::array<int, 3>> f;
   for (int k = 0; k + 1 < kRings; ++k) {
     for (int j = 0; j < kSegments; ++j) {
       const int a = k * kSegments + j, b = k * kSegments + (j + 1) % kSegments;
       const int c = a + kSegments, d = b + kSegments;
-      f << a << ' ' << b << ' ' << d << ' ' << a << ' ' << d << ' ' << c << ' ';
+      f.push_back({a, b, d});
+      f.push_back({a, d, c});
     }
   }
   for (int j = 0; j < kSegments; ++j) {
-    const int a = (kRings - 1) * kSegments + j, b = (kRings - 1) * kSegments + (j + 1) % kSegments;
-    f << a << ' ' << b << ' ' << pole << ' ';
+    f.push_back(
+        {(kRings - 1) * kSegments + j, (kRings - 1) * kSegments + (j + 1) % kSegments, pole});
   }
-  for (int j = 0; j < kSegments; ++j) {
-    f << centre << ' ' << (j + 1) % kSegments << ' ' << j << ' ';
+  for (int j = 0; j < kSegments; ++j) f.push_back({centre, (j + 1) % kSegments, j});
+  // 80-byte header, triangle count, then per triangle: normal, three vertices, 2 spare bytes.
+  std::string stl(80, '\0');
+  const std::string header = "airtwin tracer: 3 cm hemisphere, flat face at z = 0, metres";
+  stl.replace(0, header.size(), header);
+  auto put = [&stl](const void* p, size_t n) { stl.append(static_cast<const char*>(p), n); };
+  const uint32_t count = static_cast<uint32_t>(f.size());
+  put(&count, 4);
+  for (const auto& t : f) {
+    const Eigen::Vector3f n = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).normalized();
+    put(n.data(), 12);
+    for (int i : t) put(v[i].data(), 12);
+    stl.append(2, '\0');
   }
-  return "<mesh name=\"hemisphere\" vertex=\"" + v.str() + "\" face=\"" + f.str() + "\"/>";
+  return stl;
 }
 
 std::string tracer_body(size_t i, const ObjectSpec& o, double yaw, const ObjectTypeParameters& p) {
@@ -213,9 +238,10 @@ double heading(const ObjectSpec& o, uint64_t seed, size_t index) {
   return rng.uniform(-kPi, kPi);
 }
 
-// Reshapes cotton wad `obj` (already indexed) in the compiled model and sets its resting height and
-// area shares. Element rest positions are the element bodies' positions in the root frame.
-void shape_cotton(mjModel* m, SceneObject& obj, const CottonShape& shape, double element_radius) {
+// Reshapes cotton wad `obj` (already indexed) in the compiled model and sets its resting height.
+// Element rest positions are the element bodies' positions in the root frame.
+void shape_cotton(mjModel* m, const SceneObject& obj, const CottonShape& shape,
+                  double element_radius) {
   // The composite's central sphere is as big as the nominal wad and would turn it into a ball that
   // rolls: the surface elements carry all contacts.
   for (int g = m->body_geomadr[obj.root_body];
@@ -238,9 +264,12 @@ void shape_cotton(mjModel* m, SceneObject& obj, const CottonShape& shape, double
   const int qadr = m->jnt_qposadr[m->body_jntadr[obj.root_body]];
   m->qpos0[qadr + 2] = -lowest + kDropHeight;
   m->body_pos[3 * obj.root_body + 2] = -lowest + kDropHeight;
-  // Area shares: a horizontal wind sees an element on the surface in proportion to the horizontal
-  // part of its outward normal, sqrt(1 - n_z^2) (averaged over wind directions); the centre
-  // element is shielded.
+}
+
+// A wad's area shares from its element bodies' rest positions: a horizontal wind sees an element
+// on the surface in proportion to the horizontal part of its outward normal, sqrt(1 - n_z^2)
+// (averaged over wind directions); the centre element is shielded.
+void set_cotton_area_shares(const mjModel* m, SceneObject& obj) {
   obj.area_share.assign(obj.bodies.size(), 0.0);
   double total = 0.0;
   for (size_t k = 1; k < obj.bodies.size(); ++k) {
@@ -252,6 +281,69 @@ void shape_cotton(mjModel* m, SceneObject& obj, const CottonShape& shape, double
   }
   AIRTWIN_DEMAND(total > 0);
   for (double& w : obj.area_share) w /= total;
+}
+
+// Object i's compiled bodies: the subtree of body `obj<i>` (-1 and none if there is no such body).
+SceneObject find_object(const mjModel* m, const SceneSpec& spec, size_t i) {
+  SceneObject obj;
+  obj.id = spec.objects[i].id;
+  obj.type = parse_object_type(spec.objects[i].type, where_object(spec, i));
+  obj.root_body = mj_name2id(m, mjOBJ_BODY, object_body_name(i).c_str());
+  if (obj.root_body < 0) return obj;
+  for (int b = 0; b < m->nbody; ++b) {
+    if (m->body_rootid[b] == obj.root_body) obj.bodies.push_back(b);
+  }
+  return obj;
+}
+
+// Shares and mass of an indexed object.
+void finish_object(const mjModel* m, SceneObject& obj) {
+  if (obj.type == ObjectType::kTracer) {
+    obj.area_share = {1.0};
+  } else {
+    set_cotton_area_shares(m, obj);
+  }
+  for (int b : obj.bodies) obj.mass_kg += m->body_mass[b];
+}
+
+// The objects of a scene this builder wrote, compiled into `m`, with the wads shaped from the
+// seed: what export_scene writes (and so what build_scene simulates).
+std::vector<SceneObject> shape_objects(mjModel* m, const SceneSpec& spec,
+                                       const SceneParameters& params, uint64_t seed) {
+  std::vector<SceneObject> objects;
+  for (size_t i = 0; i < spec.objects.size(); ++i) {
+    SceneObject obj = find_object(m, spec, i);
+    AIRTWIN_DEMAND(obj.root_body > 0 && obj.bodies.front() == obj.root_body);
+    if (obj.type == ObjectType::kTracer) {
+      AIRTWIN_DEMAND(obj.bodies.size() == 1);
+    } else {
+      const double r = 0.5 * params.cotton.diameter_m;
+      shape_cotton(m, obj, draw_cotton_shape(seed, i, params.cotton_irregularity),
+                   kCottonElementFraction * r);
+    }
+    objects.push_back(std::move(obj));
+  }
+  return objects;
+}
+
+// In MuJoCo's written MJCF `xml`, switches off the collisions of geom `name` (contype and
+// conaffinity 0): mj_saveLastXML copies numbers back from the model but not collision masks, and
+// the wads' central spheres are switched off after compilation (shape_cotton).
+void switch_off_collisions(std::string& xml, const std::string& name) {
+  const std::string open = "<geom name=\"" + name + "\"";
+  const size_t start = xml.find(open);
+  AIRTWIN_DEMAND(start != std::string::npos);
+  const size_t end = xml.find("/>", start);
+  AIRTWIN_DEMAND(end != std::string::npos);
+  std::string element = xml.substr(start, end - start);
+  for (const std::string attribute : {" contype=\"", " conaffinity=\""}) {
+    const size_t at = element.find(attribute);
+    if (at != std::string::npos) {
+      element.erase(at, element.find('"', at + attribute.size()) + 1 - at);
+    }
+  }
+  element.insert(open.size(), " contype=\"0\" conaffinity=\"0\"");
+  xml.replace(start, end - start, element);
 }
 
 }  // namespace
@@ -378,7 +470,9 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
     << "  <material name=\"rig_servo\" rgba=\"0.1 0.1 0.1 1\"/>\n"
     << "  <material name=\"rig_nozzle\" rgba=\"0.75 0.7 0.4 1\"/>\n"
     << "  <material name=\"rig_hose\" rgba=\"0.2 0.4 0.8 1\"/>\n"
-    << "  " << hemisphere_mesh(0.5 * params.tracer.diameter_m) << "\n"
+    << (n_tracers > 0
+            ? std::string("  <mesh name=\"hemisphere\" file=\"") + kHemisphereFile + "\"/>\n"
+            : std::string())
     << "</asset>\n"
     << "<worldbody>\n"
     << "  <light name=\"sun\" pos=\"0 0 4\" dir=\"0 0 -1\" directional=\"true\""
@@ -399,40 +493,127 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
   return s.str();
 }
 
-BuiltScene build_scene(const SceneSpec& spec, const SceneParameters& params, uint64_t seed) {
-  BuiltScene scene;
-  scene.xml = scene_xml(spec, params, seed);
-  scene.model = load_model_from_xml(scene.xml, spec.source);
-  mjModel* m = scene.model.get();
+std::vector<ModelFile> scene_files(const SceneSpec& spec, const SceneParameters& params) {
+  for (const ObjectSpec& o : spec.objects) {
+    if (o.type == "tracer") {
+      return {{kHemisphereFile, hemisphere_stl(0.5 * params.tracer.diameter_m)}};
+    }
+  }
+  return {};
+}
+
+std::string object_body_name(size_t i) { return "obj" + std::to_string(i); }
+
+SceneExport export_scene(const SceneSpec& spec, const SceneParameters& params, uint64_t seed) {
+  SceneExport out;
+  out.files = scene_files(spec, params);
+  std::vector<std::string> switched_off;
+  out.xml =
+      compiled_model_xml(scene_xml(spec, params, seed), spec.source, out.files, [&](mjModel* m) {
+        for (const SceneObject& o : shape_objects(m, spec, params, seed)) {
+          if (o.type != ObjectType::kCotton) continue;
+          const int g0 = m->body_geomadr[o.root_body];
+          for (int g = g0; g < g0 + m->body_geomnum[o.root_body]; ++g) {
+            if (m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0) {
+              switched_off.push_back(mj_id2name(m, mjOBJ_GEOM, g));
+            }
+          }
+        }
+      });
+  for (const std::string& name : switched_off) switch_off_collisions(out.xml, name);
+  return out;
+}
+
+namespace {
+
+// Indexes a compiled scene's rig and objects (`scene.model`), checking first that it has what the
+// twin looks up; `where` names the MJCF in messages.
+void index_scene(BuiltScene& scene, const SceneSpec& spec, const SceneParameters& params,
+                 const std::string& where) {
+  const mjModel* m = scene.model.get();
+  auto fail = [&](const std::string& what, const std::string& expected) {
+    throw InputError(where + ": " + what + "; expected " + expected);
+  };
+
+  // The clocks of the servos, the delay line and the camera count in the twin's steps.
+  if (m->opt.timestep != params.timestep_s) {
+    fail("option timestep is " + num(m->opt.timestep) + " s",
+         num(params.timestep_s) +
+             " s, the twin's step (its servo, delay and camera clocks count in steps)");
+  }
+  // The rig's joints, set from the servo model every step, and the renderers' camera.
+  for (const std::string joint : {"nozzle_pan", "nozzle_tilt"}) {
+    const int j = mj_name2id(m, mjOBJ_JOINT, joint.c_str());
+    if (j < 0 || m->jnt_type[j] != mjJNT_HINGE) {
+      fail("joint '" + joint + (j < 0 ? "' not found" : "' is not a hinge"),
+           "a hinge named '" + joint + "' (the nozzle's " +
+               (joint == "nozzle_pan" ? "pan" : "tilt") + " servo)");
+    }
+  }
   scene.pan_joint = mj_name2id(m, mjOBJ_JOINT, "nozzle_pan");
   scene.tilt_joint = mj_name2id(m, mjOBJ_JOINT, "nozzle_tilt");
-  AIRTWIN_DEMAND(scene.pan_joint >= 0 && scene.tilt_joint >= 0);
-
-  // Index each object's bodies: the subtree of its `obj<i>` root.
+  if (mj_name2id(m, mjOBJ_CAMERA, "top") < 0) {
+    fail("camera 'top' not found",
+         "a camera named 'top' (the rig's top camera, which the renders and vision use)");
+  }
+  // The objects: obj<i> per object of the scenario, and no more.
   for (size_t i = 0; i < spec.objects.size(); ++i) {
-    SceneObject obj;
-    obj.id = spec.objects[i].id;
-    obj.type = parse_object_type(spec.objects[i].type, where_object(spec, i));
-    obj.root_body = mj_name2id(m, mjOBJ_BODY, ("obj" + std::to_string(i)).c_str());
-    AIRTWIN_DEMAND(obj.root_body > 0);
-    for (int b = 0; b < m->nbody; ++b) {
-      if (m->body_rootid[b] == obj.root_body) obj.bodies.push_back(b);
+    const std::string name = object_body_name(i);
+    const std::string what = "body '" + name + "' (" + spec.objects[i].type + " '" +
+                             spec.objects[i].id + "', objects[" + std::to_string(i) +
+                             "] of the scenario)";
+    const std::string expected_body =
+        "a body named '" + name + "' on the world body with a free joint as its first joint";
+    SceneObject obj = find_object(m, spec, i);
+    if (obj.root_body < 0) fail(what + " not found", expected_body);
+    const int b = obj.root_body;
+    if (m->body_parentid[b] != 0) fail(what + " is not on the world body", expected_body);
+    if (m->body_jntnum[b] < 1 || m->jnt_type[m->body_jntadr[b]] != mjJNT_FREE) {
+      fail(what + " has no free joint as its first joint", expected_body);
     }
-    AIRTWIN_DEMAND(obj.bodies.front() == obj.root_body);
-    if (obj.type == ObjectType::kTracer) {
-      AIRTWIN_DEMAND(obj.bodies.size() == 1);
-      obj.area_share = {1.0};
-    } else {
-      const double r = 0.5 * params.cotton.diameter_m;
-      shape_cotton(m, obj, draw_cotton_shape(seed, i, params.cotton_irregularity),
-                   kCottonElementFraction * r);
+    if (obj.type == ObjectType::kTracer && obj.bodies.size() != 1) {
+      fail(what + " has " + std::to_string(obj.bodies.size()) + " bodies",
+           "a tracer to be one body");
     }
-    for (int b : obj.bodies) obj.mass_kg += m->body_mass[b];
+    if (obj.type == ObjectType::kCotton && obj.bodies.size() < 2) {
+      fail(what + " has no element bodies", "a wad's element bodies under it");
+    }
+    finish_object(m, obj);
     scene.objects.push_back(std::move(obj));
   }
-  // Constants that depend on the (reshaped) reference configuration.
-  DataPtr scratch = make_data(m);
-  mj_setConst(m, scratch.get());
+  const std::string extra = object_body_name(spec.objects.size());
+  if (mj_name2id(m, mjOBJ_BODY, extra.c_str()) >= 0) {
+    fail("body '" + extra + "' has no object in the scenario (" +
+             std::to_string(spec.objects.size()) + " objects)",
+         spec.objects.empty()
+             ? std::string("no object bodies")
+             : "object bodies obj0 to " + object_body_name(spec.objects.size() - 1) + " only");
+  }
+}
+
+}  // namespace
+
+BuiltScene build_scene(const SceneSpec& spec, const SceneParameters& params, uint64_t seed) {
+  // The twin compiles the exported text, so that a scene written by `export_scene` is, by
+  // construction, what the twin simulates.
+  SceneExport mjcf = export_scene(spec, params, seed);
+  BuiltScene scene;
+  scene.model = load_model_from_xml(mjcf.xml, spec.source, mjcf.files);
+  scene.xml = std::move(mjcf.xml);
+  index_scene(scene, spec, params, spec.source);
+  return scene;
+}
+
+BuiltScene load_scene(const std::string& path, const SceneSpec& spec,
+                      const SceneParameters& params) {
+  validate_scene(spec, params);
+  BuiltScene scene;
+  scene.model = load_model_from_file(path);
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  scene.xml = text.str();
+  index_scene(scene, spec, params, path);
   return scene;
 }
 

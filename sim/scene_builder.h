@@ -1,7 +1,9 @@
 #pragma once
 // From a scenario to a compiled MuJoCo model: the MJCF is written in code from a SceneSpec and the
-// fixed SceneParameters, loaded from memory, and the bodies of each object are indexed so that the
-// twin can push them and read them back.
+// fixed SceneParameters and compiled from memory; the wads are shaped in the compiled model and
+// MuJoCo writes the result back as MJCF (export_scene: the `airtwin scene` files); the twin
+// compiles that text, and the bodies of each object are indexed so that the twin can push them
+// and read them back. A user's MJCF (load_scene) is indexed the same way, after checks.
 //
 // The scene (MuJoCo 2.2, see shared/notes/stack.md for why the colliders look like this):
 //  - floor: a textured plane, 2 * floor_half_size_m wide, centred on the origin below the nozzle;
@@ -50,7 +52,7 @@ struct BuiltScene {
   std::vector<SceneObject> objects;
   int pan_joint = -1;   ///< hinge `nozzle_pan`
   int tilt_joint = -1;  ///< hinge `nozzle_tilt`
-  std::string xml;      ///< the MJCF it was compiled from (for inspection and saving)
+  std::string xml;      ///< the MJCF it was compiled from (for inspection)
 };
 
 /// Throws InputError naming the object (index and id) unless: the type is known, the position and
@@ -61,11 +63,42 @@ void validate_scene(const SceneSpec& spec, const SceneParameters& params);
 /// "tracer" -> kTracer, "cotton" -> kCotton; InputError naming `where` otherwise.
 ObjectType parse_object_type(const std::string& name, const std::string& where);
 
-/// The MJCF text of the scene (validates first). Headings not given are drawn from `seed`.
+/// The MJCF text of the scene (validates first). Headings not given are drawn from `seed`. It
+/// names the files of scene_files by relative names.
 std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint64_t seed);
 
-/// Validates, writes and compiles the scene, shapes the cotton wads from `seed`, and indexes the
-/// object bodies. Same arguments, same model.
+/// The files scene_xml's text refers to: the tracer's mesh (`hemisphere.stl`) if there is a
+/// tracer, else none.
+std::vector<ModelFile> scene_files(const SceneSpec& spec, const SceneParameters& params);
+
+/// "obj<i>": the name of object i's root body.
+std::string object_body_name(size_t i);
+
+/// The scene the twin simulates: export_scene's MJCF (validated, written, compiled, wads shaped
+/// from `seed`, written back by MuJoCo), compiled, with the object bodies indexed. Same arguments,
+/// same model; the model of export_scene's files, to the last bit.
 BuiltScene build_scene(const SceneSpec& spec, const SceneParameters& params, uint64_t seed);
+
+/// A scene as MJCF files that stand on their own: `scene.xml` and the files it names.
+struct SceneExport {
+  std::string xml;
+  std::vector<ModelFile> files;
+};
+
+/// The scene as MuJoCo's own MJCF: scene_xml compiled, the wads shaped from `seed`, written back
+/// by MuJoCo (composites expanded, numbers to 17 digits; mujoco_runtime.h compiled_model_xml) with
+/// the wads' central spheres switched off. build_scene compiles this text, so these files are
+/// what the twin simulates. Validates first (InputError naming the object).
+SceneExport export_scene(const SceneSpec& spec, const SceneParameters& params, uint64_t seed);
+
+/// A user's MJCF file (e.g. an export_scene edited) as the scene of `spec`'s objects. The file
+/// must provide what the twin looks up: per object i a body `obj<i>` on the world body whose
+/// first joint is a free joint (a tracer: that one body; a wad: it and the element bodies under
+/// it), no `obj<n>` for n past the scenario's objects, hinges `nozzle_pan` and `nozzle_tilt`,
+/// camera `top`, and the twin's timestep. Nothing is reshaped: the file's bodies are simulated as
+/// they are. Throws InputError "<path>: <element>: <what is wrong>; expected <what the twin
+/// needs>" for the first thing missing, or for a file MuJoCo cannot load.
+BuiltScene load_scene(const std::string& path, const SceneSpec& spec,
+                      const SceneParameters& params);
 
 }  // namespace airtwin

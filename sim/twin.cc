@@ -12,7 +12,8 @@ struct Twin::Impl {
   Impl(const SceneSpec& spec, const TwinParameters& p, const AirFieldModel& fm, uint64_t seed)
       : params(p),
         field_model(fm),
-        scene(build_scene(spec, p.scene, seed)),
+        scene(p.scene_file.empty() ? build_scene(spec, p.scene, seed)
+                                   : load_scene(p.scene_file, spec, p.scene)),
         data(make_data(scene.model.get())),
         actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
         field(field_model.at(actuator.effective())),

@@ -45,6 +45,10 @@ struct TwinParameters {
   /// The air: the jet's CFD (shared, immutable; its tilt range must cover the nozzle's), or null
   /// for the analytical field of the field model the twin is built with.
   std::shared_ptr<const CfdField> cfd_air;
+  /// The scene from a user's MJCF file (sim/scene_builder.h load_scene: what it must provide)
+  /// instead of built from `scene` and the scenario; empty: built. The other parameters (air,
+  /// drag, static friction) still come from here.
+  std::string scene_file;
   NozzleOrientation initial_orientation{0.0, 0.0};  ///< servos at rest here at t = 0 (rad)
   bool jet_on_at_start = false;                     ///< jet level 0 at t = 0 either way
   /// Before t = 0 the objects settle this long without air (s): they are dropped 0.2 mm above

@@ -11,17 +11,6 @@
 #include "tests/support/scratch_dir.h"
 
 namespace airtwin::testing {
-namespace {
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-}  // namespace
-
 std::string scratch_dir(const std::string& name) { return fresh_scratch_dir(name); }
 
 CliResult run_airtwin(const std::string& args) {
@@ -32,10 +21,17 @@ CliResult run_airtwin(const std::string& args) {
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = file_text(out);
+  r.err = file_text(err);
   std::filesystem::remove_all(dir);
   return r;
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 int count_lines(const std::string& text) {

@@ -1,0 +1,249 @@
+// `airtwin scene` end to end: the exported MJCF compiles (with MuJoCo's own mj_loadXML, from the
+// file) to the model the twin builds, array for array; the shipped scenes/rig.xml is what the
+// command writes today; `run --mjcf` on an unedited export repeats the plain run bit for bit and
+// an edited one changes it; bad input is one line.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <mujoco/mjxmacro.h>
+#include <mujoco/mujoco.h>
+
+#include "models/air_field.h"
+#include "scenes/scenario.h"
+#include "sim/twin.h"
+#include "tests/app/cli_runner.h"
+
+namespace airtwin {
+namespace {
+
+using testing::count_lines;
+using testing::file_text;
+using testing::run_airtwin;
+using testing::scratch_dir;
+
+const std::string kScenes = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/";
+
+void write(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// `text` with the one occurrence of `from` replaced by `to` (fails the test unless there is
+// exactly one).
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return text;
+  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+// The compiled model of an MJCF file, by MuJoCo alone.
+struct LoadedModel {
+  mjModel* m = nullptr;
+  std::string error;
+  explicit LoadedModel(const std::string& path) {
+    char buffer[1024] = "";
+    m = mj_loadXML(path.c_str(), nullptr, buffer, sizeof(buffer));
+    error = buffer;
+  }
+  ~LoadedModel() { mj_deleteModel(m); }
+};
+
+// One mjModel array that differs: its name and the largest difference, relative to the larger
+// magnitude of the two (1 for a count or an index).
+struct Difference {
+  std::string field;
+  double relative = 0.0;
+};
+
+template <typename T>
+void compare_array(const char* name, const T* a, const T* b, long n, std::vector<Difference>* out) {
+  double worst = 0.0;
+  bool differs = false;
+  for (long i = 0; i < n; ++i) {
+    if (a[i] == b[i]) continue;
+    differs = true;
+    const double x = static_cast<double>(a[i]), y = static_cast<double>(b[i]);
+    worst = std::max(worst, std::abs(x - y) / std::max(std::abs(x), std::abs(y)));
+  }
+  if (differs) out->push_back({name, worst});
+}
+
+// Every size and every array of two models (mjxmacro.h's lists), and the option, visual and
+// statistic structs.
+std::vector<Difference> model_differences(const mjModel* a, const mjModel* b) {
+  std::vector<Difference> out;
+#define X(name) \
+  if (a->name != b->name) out.push_back({#name, 1.0});
+  MJMODEL_INTS
+#undef X
+  if (!out.empty()) return out;  // the arrays' lengths differ
+  {
+    MJMODEL_POINTERS_PREAMBLE(a)
+#define X(type, name, n1, n2) \
+  compare_array(#name, a->name, b->name, static_cast<long>(a->n1) * (n2), &out);
+    MJMODEL_POINTERS
+#undef X
+  }
+  if (std::memcmp(&a->opt, &b->opt, sizeof(mjOption)) != 0) out.push_back({"opt", 1.0});
+  if (std::memcmp(&a->vis, &b->vis, sizeof(mjVisual)) != 0) out.push_back({"vis", 1.0});
+  if (std::memcmp(&a->stat, &b->stat, sizeof(mjStatistic)) != 0) out.push_back({"stat", 1.0});
+  return out;
+}
+
+TEST(SceneCli, ExportCompilesToTheTwinsModel) {
+  // sorting: three tracers (mesh file) and three cotton wads (composites shaped from the seed).
+  const std::string d = scratch_dir("scene_sorting");
+  const auto r = run_airtwin("scene " + kScenes + "sorting.yaml --seed 3 --out " + d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(file_text(d + "/scene.xml").find(d), std::string::npos) << "no machine paths";
+  const LoadedModel exported(d + "/scene.xml");
+  ASSERT_NE(exported.m, nullptr) << exported.error;
+
+  const Scenario scenario = read_scenario(kScenes + "sorting.yaml");
+  const Twin twin(scenario.scene, TwinParameters{}, AirFieldModel::with_default_table(), 3);
+  const mjModel* m = twin.model();
+  // The twin's model has the objects this test is about.
+  ASSERT_EQ(twin.object_count(), 6u);
+  EXPECT_EQ(m->nmesh, 1);
+  EXPECT_EQ(m->nskin, 3);
+  EXPECT_GT(m->nbody, 3 * 27);
+
+  // Every array of mjModel (bodies, masses, inertias, geoms, friction, solref/solimp, contact
+  // masks, joints, equalities, camera, qpos0, meshes, skins, ...) and the options, equal to the
+  // last bit: the twin compiles the exported text itself, so no tolerance is needed, and any
+  // change the twin made to its model after compiling would show here.
+  for (const Difference& diff : model_differences(exported.m, m)) {
+    ADD_FAILURE() << diff.field << " differs, by " << diff.relative << " relative";
+  }
+  // Spelled out for the reader: the fields the issue names.
+  EXPECT_EQ(exported.m->nbody, m->nbody);
+  EXPECT_EQ(exported.m->ngeom, m->ngeom);
+  EXPECT_EQ(exported.m->njnt, m->njnt);
+  EXPECT_EQ(exported.m->opt.timestep, m->opt.timestep);
+  EXPECT_EQ(exported.m->opt.integrator, m->opt.integrator);
+  EXPECT_EQ(exported.m->opt.cone, m->opt.cone);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(exported.m->opt.gravity[k], m->opt.gravity[k]);
+  for (int b = 0; b < m->nbody; ++b) {
+    EXPECT_EQ(exported.m->body_mass[b], m->body_mass[b]) << b;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(exported.m->body_inertia[3 * b + k], m->body_inertia[3 * b + k]) << b;
+      EXPECT_EQ(exported.m->body_pos[3 * b + k], m->body_pos[3 * b + k]) << b;
+    }
+  }
+  for (int g = 0; g < m->ngeom; ++g) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(exported.m->geom_size[3 * g + k], m->geom_size[3 * g + k]) << g;
+      EXPECT_EQ(exported.m->geom_friction[3 * g + k], m->geom_friction[3 * g + k]) << g;
+    }
+    EXPECT_EQ(exported.m->geom_contype[g], m->geom_contype[g]) << g;
+    EXPECT_EQ(exported.m->geom_conaffinity[g], m->geom_conaffinity[g]) << g;
+    for (int k = 0; k < mjNREF; ++k) {
+      EXPECT_EQ(exported.m->geom_solref[mjNREF * g + k], m->geom_solref[mjNREF * g + k]);
+    }
+    for (int k = 0; k < mjNIMP; ++k) {
+      EXPECT_EQ(exported.m->geom_solimp[mjNIMP * g + k], m->geom_solimp[mjNIMP * g + k]);
+    }
+  }
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(exported.m->cam_pos[k], m->cam_pos[k]);
+  EXPECT_EQ(exported.m->cam_fovy[0], m->cam_fovy[0]);
+}
+
+TEST(SceneCli, ShippedRigIsWhatTheCommandWrites) {
+  const std::string d = scratch_dir("scene_rig");
+  const auto r = run_airtwin("scene --rig --out " + d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // scenes/README.md says how to regenerate it when this fails after a change to the scene.
+  EXPECT_EQ(file_text(d + "/scene.xml"), file_text(kScenes + "rig.xml"));
+  const LoadedModel rig(kScenes + "rig.xml");
+  ASSERT_NE(rig.m, nullptr) << rig.error;
+  EXPECT_GE(mj_name2id(rig.m, mjOBJ_JOINT, "nozzle_pan"), 0);
+  EXPECT_GE(mj_name2id(rig.m, mjOBJ_JOINT, "nozzle_tilt"), 0);
+  EXPECT_GE(mj_name2id(rig.m, mjOBJ_CAMERA, "top"), 0);
+  EXPECT_EQ(mj_name2id(rig.m, mjOBJ_BODY, "obj0"), -1);
+  EXPECT_EQ(rig.m->nmesh, 0);  // no tracer, no mesh file: the file stands alone
+}
+
+TEST(SceneCli, BadInputIsOneLine) {
+  const std::string d = scratch_dir("scene_bad");
+  // A scenario that does not exist: bad input, named.
+  auto r = run_airtwin("scene " + d + "/nothing.yaml --out " + d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("nothing.yaml"), std::string::npos) << r.err;
+  // Neither a scenario nor --rig, or both: usage errors.
+  r = run_airtwin("scene --out " + d);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--rig"), std::string::npos) << r.err;
+  r = run_airtwin("scene " + kScenes + "line.yaml --rig --out " + d);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_FALSE(std::ifstream(d + "/scene.xml").good());
+}
+
+// sorting, cut to 3 s: both object types, and quick.
+std::string short_sorting(const std::string& dir) {
+  const std::string path = dir + "/sorting_3s.yaml";
+  write(path,
+        replace_once(file_text(kScenes + "sorting.yaml"), "time_limit_s: 60", "time_limit_s: 3"));
+  return path;
+}
+
+TEST(SceneCli, RunOnTheExportRepeatsThePlainRunAndAnEditChangesIt) {
+  const std::string d = scratch_dir("scene_run");
+  const std::string scenario = short_sorting(d);
+  ASSERT_EQ(run_airtwin("scene " + scenario + " --seed 5 --out " + d + "/scene").exit_code, 0);
+  // The floor's friction edited in the text: 0 (the objects' own coefficients decide, as MuJoCo
+  // takes the larger of a pair) to 1.5, more than any object's.
+  const std::string xml = file_text(d + "/scene/scene.xml");
+  const size_t floor = xml.find("<geom name=\"floor\"");
+  ASSERT_NE(floor, std::string::npos);
+  const std::string element = xml.substr(floor, xml.find("/>", floor) - floor);
+  write(d + "/scene/edited.xml",
+        replace_once(xml, element,
+                     replace_once(element, "friction=\"0 0 0\"", "friction=\"1.5 0 0\"")));
+
+  const std::string common = "run " + scenario + " --seed 5 --quiet --out " + d;
+  auto r = run_airtwin(common + "/plain");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_airtwin(common + "/exported --mjcf " + d + "/scene/scene.xml");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_airtwin(common + "/edited --mjcf " + d + "/scene/edited.xml");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  const std::string plain = file_text(d + "/plain/log.csv");
+  ASSERT_GT(count_lines(plain), 100);
+  EXPECT_TRUE(plain == file_text(d + "/exported/log.csv"))
+      << "the unedited export runs differently";
+  EXPECT_EQ(file_text(d + "/plain/nozzle.csv"), file_text(d + "/exported/nozzle.csv"));
+  EXPECT_FALSE(plain == file_text(d + "/edited/log.csv")) << "the floor's friction changed nothing";
+}
+
+TEST(SceneCli, RunNamesWhatAUserSceneLacks) {
+  const std::string d = scratch_dir("scene_missing");
+  const std::string scenario = short_sorting(d);
+  ASSERT_EQ(run_airtwin("scene " + scenario + " --out " + d + "/scene").exit_code, 0);
+  // The first object's body renamed: the twin cannot find tracer t1.
+  write(d + "/scene/renamed.xml",
+        replace_once(file_text(d + "/scene/scene.xml"), "name=\"obj0\"", "name=\"tracer_t1\""));
+  const auto r = run_airtwin("run " + scenario + " --quiet --mjcf " + d +
+                             "/scene/renamed.xml --out " + d + "/run");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("renamed.xml: body 'obj0' (tracer 't1', objects[0] of the scenario) not "
+                       "found; expected a body named 'obj0'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::ifstream(d + "/run/log.csv").good());
+}
+
+}  // namespace
+}  // namespace airtwin
