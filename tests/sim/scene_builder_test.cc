@@ -1,5 +1,7 @@
 // Scene assembly: a mixed scene compiles, its bodies are indexed with the paper's masses and
-// shapes, the rig and camera sit where the geometry says, and bad scenarios name the object.
+// shapes, the rig and camera sit where the geometry says, and bad scenarios name the object. A
+// user's scene (load_scene): an export loads as the built scene, and what the twin cannot find in
+// an edited one is named.
 
 #include "sim/scene_builder.h"
 
@@ -7,12 +9,15 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
+#include <functional>
 #include <limits>
 #include <string>
 
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
+#include "tests/support/scratch_dir.h"
 
 namespace airtwin {
 namespace {
@@ -214,6 +219,88 @@ TEST(SceneBuilder, BadParametersAreInputErrors) {
   params = SceneParameters{};
   params.cotton.static_friction_ratio = 0.5;
   EXPECT_THROW(build_scene(spec, params, 1), InputError);
+}
+
+// export_scene's files written to a fresh folder, with `edit` applied to scene.xml's text; the
+// path of scene.xml.
+std::string write_export(const std::string& name, const SceneSpec& spec,
+                         const std::function<std::string(std::string)>& edit) {
+  const std::string dir = testing::fresh_scratch_dir(name);
+  const SceneExport mjcf = export_scene(spec, SceneParameters{}, 2);
+  std::ofstream(dir + "/scene.xml", std::ios::binary) << edit(mjcf.xml);
+  for (const ModelFile& f : mjcf.files)
+    std::ofstream(dir + "/" + f.name, std::ios::binary) << f.bytes;
+  return dir + "/scene.xml";
+}
+
+// The message of load_scene's InputError ("" if it loads).
+std::string load_error(const std::string& path, const SceneSpec& spec) {
+  try {
+    load_scene(path, spec, SceneParameters{});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_contains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' not in: " << text;
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+TEST(SceneBuilder, LoadedExportIsTheBuiltSceneIndexedAlike) {
+  const SceneSpec spec = mixed_scene();
+  const std::string path = write_export("scene_loaded", spec, [](std::string x) { return x; });
+  const BuiltScene built = build_scene(spec, SceneParameters{}, 2);
+  const BuiltScene loaded = load_scene(path, spec, SceneParameters{});
+  EXPECT_EQ(loaded.xml, built.xml);
+  EXPECT_EQ(loaded.pan_joint, built.pan_joint);
+  EXPECT_EQ(loaded.tilt_joint, built.tilt_joint);
+  ASSERT_EQ(loaded.objects.size(), built.objects.size());
+  for (size_t i = 0; i < built.objects.size(); ++i) {
+    EXPECT_EQ(loaded.objects[i].bodies, built.objects[i].bodies);
+    EXPECT_EQ(loaded.objects[i].area_share, built.objects[i].area_share);
+    EXPECT_EQ(loaded.objects[i].mass_kg, built.objects[i].mass_kg);
+  }
+}
+
+TEST(SceneBuilder, UserScenesNameWhatTheTwinCannotFind) {
+  const SceneSpec spec = mixed_scene();
+  const auto error_of = [&](const std::string& name, const std::string& from,
+                            const std::string& to) {
+    return load_error(
+        write_export(name, spec, [&](std::string x) { return replaced(x, from, to); }), spec);
+  };
+  // Each line names the file, the element, and what the twin expected.
+  expect_contains(
+      error_of("scene_timestep", "timestep=\"0.0025000000000000001\"", "timestep=\"0.002\""),
+      "scene.xml: option timestep is 0.002 s; expected 0.0025 s");
+  expect_contains(error_of("scene_pan", "joint name=\"nozzle_pan\"", "joint name=\"pan\""),
+                  "scene.xml: joint 'nozzle_pan' not found; expected a hinge");
+  expect_contains(error_of("scene_camera", "camera name=\"top\"", "camera name=\"overhead\""),
+                  "scene.xml: camera 'top' not found; expected a camera named");
+  expect_contains(error_of("scene_free", "<joint name=\"obj2_free\" type=\"free\"/>", ""),
+                  "body 'obj2' (tracer 't1', objects[2] of the scenario) has no "
+                  "free joint as its first joint; expected a body named 'obj2'");
+  // A scenario of fewer objects than the file's.
+  SceneSpec fewer = spec;
+  fewer.objects.pop_back();
+  const std::string path = write_export("scene_extra", spec, [](std::string x) { return x; });
+  expect_contains(load_error(path, fewer),
+                  "body 'obj4' has no object in the scenario (4 objects); "
+                  "expected object bodies obj0 to obj3 only");
+  // A tracer of the scenario where the file has a wad.
+  SceneSpec swapped = spec;
+  swapped.objects[1].type = "tracer";
+  expect_contains(load_error(path, swapped),
+                  "body 'obj1' (tracer 'c0', objects[1] of the scenario) has 27 "
+                  "bodies; expected a tracer to be one body");
+  expect_contains(load_error(path + ".missing", spec), "no such file");
 }
 
 TEST(ObjectTypeParameters, ReproduceTheIdentifiedDynamics) {
