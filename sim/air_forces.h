@@ -145,7 +145,7 @@ class AirForces {
   /// The unit-variance turbulence state eta_o of object o (u'_o = sigma(r) eta_o).
   Eigen::Vector2d turbulence_state(size_t o) const;
   /// Most bodies one object may have.
-  static constexpr size_t kMaxBodiesPerObject = 64;
+  static constexpr size_t kMaxBodiesPerObject = kMaxObjectBodies;
   /// Empty, or what went wrong inside the callback (the first fault only).
   const std::string& fault() const { return fault_; }
   const std::vector<SceneObject>& objects() const { return objects_; }

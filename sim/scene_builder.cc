@@ -268,8 +268,9 @@ void shape_cotton(mjModel* m, const SceneObject& obj, const CottonShape& shape,
 
 // A wad's area shares from its element bodies' rest positions: a horizontal wind sees an element
 // on the surface in proportion to the horizontal part of its outward normal, sqrt(1 - n_z^2)
-// (averaged over wind directions); the centre element is shielded.
-void set_cotton_area_shares(const mjModel* m, SceneObject& obj) {
+// (averaged over wind directions); the centre element is shielded. False if no element is off
+// the root's vertical axis (nothing for the wind to meet).
+bool set_cotton_area_shares(const mjModel* m, SceneObject& obj) {
   obj.area_share.assign(obj.bodies.size(), 0.0);
   double total = 0.0;
   for (size_t k = 1; k < obj.bodies.size(); ++k) {
@@ -279,8 +280,9 @@ void set_cotton_area_shares(const mjModel* m, SceneObject& obj) {
     obj.area_share[k] = std::sqrt(std::max(0.0, 1.0 - nz * nz));
     total += obj.area_share[k];
   }
-  AIRTWIN_DEMAND(total > 0);
+  if (!(total > 0)) return false;
   for (double& w : obj.area_share) w /= total;
+  return true;
 }
 
 // Object i's compiled bodies: the subtree of body `obj<i>` (-1 and none if there is no such body).
@@ -296,14 +298,14 @@ SceneObject find_object(const mjModel* m, const SceneSpec& spec, size_t i) {
   return obj;
 }
 
-// Shares and mass of an indexed object.
-void finish_object(const mjModel* m, SceneObject& obj) {
+// Shares and mass of an indexed object; false as set_cotton_area_shares.
+bool finish_object(const mjModel* m, SceneObject& obj) {
+  for (int b : obj.bodies) obj.mass_kg += m->body_mass[b];
   if (obj.type == ObjectType::kTracer) {
     obj.area_share = {1.0};
-  } else {
-    set_cotton_area_shares(m, obj);
+    return true;
   }
-  for (int b : obj.bodies) obj.mass_kg += m->body_mass[b];
+  return set_cotton_area_shares(m, obj);
 }
 
 // The objects of a scene this builder wrote, compiled into `m`, with the wads shaped from the
@@ -578,7 +580,15 @@ void index_scene(BuiltScene& scene, const SceneSpec& spec, const SceneParameters
     if (obj.type == ObjectType::kCotton && obj.bodies.size() < 2) {
       fail(what + " has no element bodies", "a wad's element bodies under it");
     }
-    finish_object(m, obj);
+    if (obj.bodies.size() > kMaxObjectBodies) {
+      fail(what + " has " + std::to_string(obj.bodies.size()) + " bodies",
+           "at most " + std::to_string(kMaxObjectBodies) + " bodies per object");
+    }
+    if (!finish_object(m, obj)) {
+      fail(what + ": its element bodies all lie on its vertical axis",
+           "a wad's element bodies around its centre (the air meets them by their horizontal "
+           "area)");
+    }
     scene.objects.push_back(std::move(obj));
   }
   const std::string extra = object_body_name(spec.objects.size());

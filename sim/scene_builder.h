@@ -25,6 +25,7 @@
 //    from the seed (cotton_irregularity).
 // All object bodies are in the subtree of `obj<i>` (i = index in SceneSpec::objects).
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,6 +34,9 @@
 #include "sim/scene_spec.h"
 
 namespace airtwin {
+
+/// Most bodies one object may have (the air forces keep a fixed scratch per object).
+inline constexpr size_t kMaxObjectBodies = 64;
 
 /// One object of a compiled scene.
 struct SceneObject {
