@@ -73,6 +73,10 @@ void run(const DiscrepancyArgs& a) {
   write_text_file(a.out + "/report.md", discrepancy_report_markdown(report));
   write_text_file(a.out + "/extended_model.json", extended_model_json(extended));
   plots::write_residual_plots(report, a.out);
+  if (report.chosen_correction >= 0) {
+    write_text_file(a.out + "/correction.csv", discrepancy_correction_csv(report));
+    plots::write_correction_plot(report, a.out + "/residual_correction.png");
+  }
 
   std::string found;
   if (!report.decidable) {
@@ -81,8 +85,9 @@ void run(const DiscrepancyArgs& a) {
     found = "none";
   }
   for (const std::string& f : report.found) found += (found.empty() ? "" : ", ") + f;
-  std::printf("found: %s; held-out end MAPE %.1f %% -> %.1f %%; report in %s/report.md\n",
-              found.c_str(), report.baseline_end_mape, report.extended_end_mape, a.out.c_str());
+  std::printf("found: %s; held-out end MAPE %.1f %% -> %.1f %%%s; report in %s/report.md\n",
+              found.c_str(), report.baseline_end_mape, report.extended_end_mape,
+              report.unexplained ? "; unexplained structure left" : "", a.out.c_str());
 }
 
 }  // namespace
@@ -94,7 +99,9 @@ void add_discrepancy_command(CLI::App& app) {
       "Find what the model gets wrong in measured trajectories (Appendix D recordings or a\n"
       "closed-loop log): baseline errors and residual structure, a catalogue of physical causes\n"
       "fitted on a training split and tested on held-out data, and the extended model with the\n"
-      "causes found. Writes report.json, report.md, extended_model.json and residual plots.\n"
+      "causes found, and whether what is left is still structured (a nonparametric correction).\n"
+      "Writes report.json, report.md, extended_model.json, residual plots and, with a\n"
+      "correction, correction.csv and residual_correction.png.\n"
       "docs/discrepancy.md.");
   sub->add_option("data", args->data, "Trajectory CSV (traj,object,t,x,y,pan_deg,tilt_deg)")
       ->required();

@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/random_stream.h"
+#include "models/discrepancy_correction.h"
 #include "models/discrepancy_decision.h"
 #include "models/discrepancy_evaluation.h"
 #include "models/discrepancy_fit.h"
@@ -32,6 +33,9 @@ void DiscrepancyOptions::validate() const {
   if (residual_stride < 1) throw FieldError("discrepancy.residual_stride", "must be >= 1 frame");
   if (!(alpha > 0.0 && alpha < 1.0)) throw FieldError("discrepancy.alpha", "must be in (0, 1)");
   if (max_found < 1) throw FieldError("discrepancy.max_found", "must be >= 1");
+  if (!(min_unexplained_gain > 0.0 && min_unexplained_gain < 1.0)) {
+    throw FieldError("discrepancy.min_unexplained_gain", "must be in (0, 1)");
+  }
   if (!(std::isfinite(predictor_step_s) && predictor_step_s > 0.0 && predictor_step_s <= 0.05)) {
     throw FieldError("discrepancy.predictor_step_s", "must be in (0, 0.05] s");
   }
@@ -325,6 +329,16 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   report.extended_end_mape = end_mape(extended_held);
   report.extended_path_error = mean_path_error(extended_held, informative);
   report.gain_pct = 100.0 * (1.0 - report.extended_end_mape / report.baseline_end_mape);
+
+  say("what is left: a nonparametric correction of the residual acceleration");
+  CorrectionOutcome left = correct_residual(ev.predictor(), ws, report.extensions, train, held,
+                                            o.alpha, o.min_unexplained_gain);
+  report.corrections = std::move(left.corrections);
+  report.chosen_correction = left.chosen;
+  report.n_acceleration_samples = left.n_samples;
+  report.median_residual_radial = left.median_residual.x();
+  report.median_residual_across = left.median_residual.y();
+  report.unexplained = left.unexplained;
   return report;
 }
 

@@ -38,6 +38,11 @@
 //    of the extended model.
 // 4. Extension. The causes found, with their fitted parameters, make the extended model
 //    (models/extended_model.h); its held-out end MAPE against the baseline's is the gain.
+// 5. What is left. The extended model's residual accelerations are smoothed over each group of
+//    features (place on the floor, place relative to s, time since the command) by a
+//    kernel smoother fitted on the training windows; when the best group's correction removes a
+//    significant part of the held-out residual, the report says `unexplained` and where
+//    (models/discrepancy_correction.h): the data hold something outside the catalogue.
 //
 // What cannot be decided is stated, not guessed: too few windows, windows too short, a response
 // delay without any command change recorded, a single tilt (the tilt dependence is not checked).
@@ -66,6 +71,8 @@ struct DiscrepancyOptions {
   double max_delta_bic = -10.0;   ///< a cause needs delta BIC at most this
   double min_gain = 0.15;         ///< and this relative reduction of the held-out path error
   int max_found = 3;
+  /// The held-out gain of the nonparametric correction that marks the residual as structured.
+  double min_unexplained_gain = 0.03;
   size_t min_windows = 20;         ///< fewer usable windows: nothing can be decided
   size_t min_heldout_windows = 8;  ///< fewer held-out windows: nothing can be decided
   int max_iterations = 40;         ///< Levenberg-Marquardt iterations per fit
@@ -120,6 +127,27 @@ struct ResidualSample {
   double radial_m = 0.0, tangential_m = 0.0;  ///< prediction minus measurement
 };
 
+/// What the model with the causes found still gets wrong, seen as a residual acceleration (the
+/// measured one minus the model's, each from a local quadratic through 5 samples, the model
+/// started from the measured state) smoothed over one group of features: a nonparametric
+/// correction (models/discrepancy_correction.h). Components along the radial direction from s and
+/// across it (counter-clockwise), m/s^2, on a regular grid of the feature (1-D: ny = 1).
+struct ResidualCorrection {
+  std::string feature;            ///< "position_from_s", "floor_position" or "time_since_command"
+  std::string unit;               ///< of the feature axes: "m" or "s"
+  double bandwidth = 0.0;         ///< the Gaussian kernel's width, in `unit`
+  double cv_gain = 0.0;           ///< training windows, cross-validated: 1 - loss with / without it
+  double heldout_gain = 0.0;      ///< held-out windows: 1 - loss with / without it
+  double p_value = 1.0;           ///< held-out, one-sided sign-flip test over windows
+  double heldout_rms_mps2 = 0.0;  ///< the correction's RMS over the held-out samples
+  double x0 = 0.0, y0 = 0.0, step = 0.0;  ///< the grid: first cell's centre and pitch
+  int nx = 0, ny = 1;
+  std::vector<double> radial, across;  ///< the correction, nx * ny, row-major in y
+  std::vector<double> weight;          ///< the smoothed sample count behind each cell
+  /// Where the correction is largest (with support from the data), for people.
+  std::string where;
+};
+
 /// A 95 % bootstrap interval of a fitted parameter.
 struct ParameterRange {
   double lo = NAN, hi = NAN;
@@ -155,6 +183,20 @@ struct DiscrepancyReport {
   double extended_end_mape = 0.0;  ///< held-out, percent
   double extended_path_error = 0.0;
   double gain_pct = 0.0;  ///< 100 (1 - extended / baseline) of the held-out end MAPE
+
+  /// Step 5: the residual the causes found leave, corrected nonparametrically over each feature
+  /// group (its best bandwidth by cross-validation on the training windows).
+  std::vector<ResidualCorrection> corrections;
+  int chosen_correction = -1;  ///< the group with the best cross-validated gain (-1: none)
+  /// Samples with an acceleration estimate where the measurement or the model moves.
+  size_t n_acceleration_samples = 0;
+  /// Their median residual acceleration (m/s^2, radial from s and across it), taken out before
+  /// the corrections, which are judged against this constant.
+  double median_residual_radial = 0.0, median_residual_across = 0.0;
+  /// The chosen correction removes a significant part of the held-out residual (p < alpha, gain
+  /// >= min_unexplained_gain) and is not negligible (RMS >= 0.1 m/s^2): something the catalogue
+  /// does not name is in the data.
+  bool unexplained = false;
 };
 
 /// Runs the analysis. `objects` gives eq. (8) coefficients per object type; every type in `set`
@@ -166,6 +208,9 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
 /// report.json: baseline_end_mape, found, candidates [{name, params {key: value}, heldout_end_mape,
 /// delta_bic, p_value, ...}], extended_end_mape, gain_pct, then the details.
 std::string discrepancy_report_json(const DiscrepancyReport& report);
+/// correction.csv: the chosen correction's grid (feature x, y, radial, across, weight); only the
+/// header when none was chosen.
+std::string discrepancy_correction_csv(const DiscrepancyReport& report);
 /// report.md: what is wrong, where, why, what was added, what it gained; for people.
 std::string discrepancy_report_markdown(const DiscrepancyReport& report);
 

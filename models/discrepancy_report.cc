@@ -50,6 +50,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   if (r.decidable && r.found.empty()) found.push_back("none");
   for (const std::string& f : r.found) found.push_back(f);
   j["found"] = found;
+  j["unexplained"] = r.unexplained;
   Json cands = Json::array();
   for (const CandidateResult& c : r.candidates) cands.push_back(candidate(c));
   j["candidates"] = cands;
@@ -104,6 +105,26 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
     bins[name] = arr;
   }
   j["residual_structure"] = bins;
+  Json corrections = Json::array();
+  for (const ResidualCorrection& c : r.corrections) {
+    corrections.push_back({{"feature", c.feature},
+                           {"unit", c.unit},
+                           {"bandwidth", c.bandwidth},
+                           {"cv_gain", num(c.cv_gain)},
+                           {"heldout_gain", num(c.heldout_gain)},
+                           {"p_value", num(c.p_value)},
+                           {"heldout_rms_mps2", num(c.heldout_rms_mps2)},
+                           {"where", c.where}});
+  }
+  j["what_is_left"] = {
+      {"unexplained", r.unexplained},
+      {"n_acceleration_samples", r.n_acceleration_samples},
+      {"median_residual_mps2",
+       {{"radial", num(r.median_residual_radial)}, {"across", num(r.median_residual_across)}}},
+      {"chosen", r.chosen_correction >= 0
+                     ? Json(r.corrections[static_cast<size_t>(r.chosen_correction)].feature)
+                     : Json(nullptr)},
+      {"corrections", corrections}};
   j["n_trajectories"] = r.n_trajectories;
   j["n_windows"] = r.n_windows;
   j["n_train_windows"] = r.n_train_windows;
@@ -112,6 +133,22 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   j["tilts_deg"] = r.tilts_deg;
   j["source"] = r.source;
   return j.dump(2) + "\n";
+}
+
+std::string discrepancy_correction_csv(const DiscrepancyReport& r) {
+  std::string csv = "x,y,radial_mps2,across_mps2,weight\n";
+  if (r.chosen_correction < 0) return csv;
+  const ResidualCorrection& c = r.corrections.at(static_cast<size_t>(r.chosen_correction));
+  char line[160];
+  for (int j = 0; j < c.ny; ++j) {
+    for (int i = 0; i < c.nx; ++i) {
+      const size_t k = static_cast<size_t>(j * c.nx + i);
+      std::snprintf(line, sizeof(line), "%.4f,%.4f,%.5g,%.5g,%.5g\n", c.x0 + i * c.step,
+                    c.ny > 1 ? c.y0 + j * c.step : 0.0, c.radial[k], c.across[k], c.weight[k]);
+      csv += line;
+    }
+  }
+  return csv;
 }
 
 std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
@@ -205,6 +242,43 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     md += "Limits:\n\n";
     for (const std::string& n : r.notes) md += "- " + n + "\n";
     md += "\n";
+  }
+  md += "## What is left\n\n";
+  if (r.corrections.empty()) {
+    md += "Too few moving samples to test the residual for structure.\n\n";
+  } else {
+    md +=
+        "The residual acceleration of the model with the causes above (measured minus model, "
+        "along the radial direction from s and across it, " +
+        std::to_string(r.n_acceleration_samples) +
+        " samples where the object or the model moves; median " +
+        fixed(r.median_residual_radial, 2) + " m/s^2 outward and " +
+        fixed(r.median_residual_across, 2) +
+        " m/s^2 across, taken out first) smoothed over each group of features, fitted on the "
+        "training windows and scored on the held-out ones against that constant:\n\n"
+        "| feature | bandwidth | cross-validated gain % | held-out gain % | p | RMS m/s^2 | "
+        "largest |\n"
+        "|---|---|---|---|---|---|---|\n";
+    for (size_t i = 0; i < r.corrections.size(); ++i) {
+      const ResidualCorrection& c = r.corrections[i];
+      md += "| " + c.feature + (static_cast<int>(i) == r.chosen_correction ? " (chosen)" : "") +
+            " | " + fixed(c.bandwidth, 2) + " " + c.unit + " | " + fixed(100.0 * c.cv_gain, 1) +
+            " | " + fixed(100.0 * c.heldout_gain, 1) + " | " +
+            (c.p_value < 1e-4 ? std::string("< 1e-4") : fixed(c.p_value, 4)) + " | " +
+            fixed(c.heldout_rms_mps2, 2) + " | " + c.where + " |\n";
+    }
+    md += "\n";
+    if (r.unexplained) {
+      const ResidualCorrection& c = r.corrections[static_cast<size_t>(r.chosen_correction)];
+      md += "**Unexplained**: the residual is structured by " + c.feature + " (" + c.where +
+            "); the correction removes " + fixed(100.0 * c.heldout_gain, 1) +
+            " % of the held-out residual. Something outside the catalogue is in the data "
+            "(picture: residual_correction.png).\n\n";
+    } else {
+      md +=
+          "No correction removes a significant part of the held-out residual: what is left "
+          "looks like scatter.\n\n";
+    }
   }
   md += "## What was added and what it gained\n\n";
   if (r.found.empty()) {

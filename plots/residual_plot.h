@@ -14,4 +14,9 @@ namespace airtwin::plots {
 /// residuals_speed.png and residuals_floor.png. Throws InputError when a file cannot be written.
 void write_residual_plots(const DiscrepancyReport& report, const std::string& dir);
 
+/// Writes `path` (PNG): the chosen nonparametric correction of what is left (report.corrections),
+/// a pair of maps (radial and across) for a floor or s-relative feature, curves for time; nothing
+/// when no correction was chosen. Throws InputError when the file cannot be written.
+void write_correction_plot(const DiscrepancyReport& report, const std::string& path);
+
 }  // namespace airtwin::plots
