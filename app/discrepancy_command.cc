@@ -28,6 +28,7 @@ struct DiscrepancyArgs {
   double holdout = 0.3;
   uint64_t seed = 1;
   double window_s = 3.0;
+  std::string prior_command;
   std::string out;
   bool quiet = false;
 };
@@ -37,8 +38,18 @@ void run(const DiscrepancyArgs& a) {
   options.holdout_fraction = a.holdout;
   options.seed = a.seed;
   options.window_s = a.window_s;
+  if (!a.prior_command.empty()) {
+    const std::vector<double> v = parse_degree_list(a.prior_command, "--prior-command");
+    if (v.size() != 2) {
+      throw UsageError("--prior-command: expected PAN,TILT in degrees, got '" + a.prior_command +
+                       "'");
+    }
+    options.prior_command = NozzleOrientation{v[0], v[1]};
+  }
   // flags first, before any file is read or written
-  with_flags({{"discrepancy.holdout_fraction", "--holdout"}, {"discrepancy.window_s", "--window"}},
+  with_flags({{"discrepancy.holdout_fraction", "--holdout"},
+              {"discrepancy.window_s", "--window"},
+              {"discrepancy.prior_command", "--prior-command"}},
              [&] { options.validate(); });
 
   const TrajectorySet set = read_trajectory_csv(a.data);
@@ -118,6 +129,11 @@ void add_discrepancy_command(CLI::App& app) {
   sub->add_option("--window", args->window_s,
                   "Longest prediction (s): longer trajectories are cut into windows")
       ->capture_default_str();
+  sub->add_option(
+      "--prior-command", args->prior_command,
+      "PAN,TILT (deg): where the nozzle was before each trajectory's first sample, for\n"
+      "Appendix D recordings without a lead-in (collect's idle is -90,50): the servos'\n"
+      "travel from it is then predicted instead of left out");
   sub->add_option("--out", args->out, "Output folder")->required();
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run(*args); });

@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/random_stream.h"
+#include "common/units.h"
 #include "models/discrepancy_correction.h"
 #include "models/discrepancy_decision.h"
 #include "models/discrepancy_evaluation.h"
@@ -43,6 +44,11 @@ void DiscrepancyOptions::validate() const {
     throw FieldError("discrepancy.screen_step_s", "must be in [predictor_step_s, 0.05] s");
   }
   nozzle.validate();
+  if (prior_command &&
+      !(std::isfinite(prior_command->pan_rad) && std::isfinite(prior_command->tilt_rad) &&
+        prior_command->tilt_rad >= 0.0 && prior_command->tilt_rad <= 0.5 * kPi)) {
+    throw FieldError("discrepancy.prior_command", "must be finite with a tilt in [0, 90] deg");
+  }
 }
 
 namespace {

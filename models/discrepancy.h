@@ -52,6 +52,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,12 @@ struct DiscrepancyOptions {
   /// predictor_step_s (docs/discrepancy.md); predictor_step_s itself: no screening.
   double screen_step_s = 8e-3;
   NozzleResponseParameters nozzle;  ///< the nominal response
+  /// Where the nozzle was before each trajectory's first sample, when the data do not record it:
+  /// Appendix D recordings without a lead-in re-aim from an idle orientation at their first
+  /// sample (`airtwin collect`'s is pan -90, tilt 50 deg). The servos then travel from it at the
+  /// first sample, as the model's timeline has them. Unset: the first recorded command held
+  /// before.
+  std::optional<NozzleOrientation> prior_command;
   /// Called with one line per stage (progress for people); optional.
   std::function<void(const std::string&)> progress;
 

@@ -10,6 +10,10 @@
 namespace airtwin::discrepancy_detail {
 namespace {
 
+// The prior command is placed this long before the first sample: the timeline needs strictly
+// increasing times, and the servos rest at it until the first sample's command.
+constexpr double kPriorLead_s = 1.0;
+
 bool same_command(const NozzleOrientation& a, const NozzleOrientation& b) {
   return a.pan_rad == b.pan_rad && a.tilt_rad == b.tilt_rad;
 }
@@ -34,8 +38,13 @@ WindowSet make_windows(const TrajectorySet& set,
       ++ws.n_short;
       continue;
     }
-    // The recorded command history: the first command, then every change.
-    std::vector<TimedCommand> commands{{s.front().t_s, s.front().nozzle}};
+    // The recorded command history: the first command, then every change; before it the prior
+    // command when one is given (the servos travel from it from the first sample on).
+    std::vector<TimedCommand> commands;
+    if (o.prior_command && !same_command(*o.prior_command, s.front().nozzle)) {
+      commands.push_back({s.front().t_s - kPriorLead_s, *o.prior_command});
+    }
+    commands.push_back({s.front().t_s, s.front().nozzle});
     for (size_t k = 1; k < s.size(); ++k) {
       if (!same_command(s[k].nozzle, s[k - 1].nozzle)) commands.push_back({s[k].t_s, s[k].nozzle});
       ws.tilts_deg.insert(std::round(rad_to_deg(s[k].nozzle.tilt_rad) * 1e3) / 1e3);

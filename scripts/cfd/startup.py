@@ -8,6 +8,8 @@ Subcommands (used by startup.sh):
   write   DIR          the case: wedge blockMesh, 0/ fields, PIMPLE dictionaries, probes
   progress DIR         one line: simulated time, time step, wall clock per simulated second
   convert DIR OUTDIR   probes -> OUTDIR/startup_tilt00_d40.json and _floor.csv, _axis.csv
+  summary DATADIR      the figures of docs/cfd.md from the converted files (and the steady case
+                       tilt00.0_mesh1_d20 beside them): transit, wall-jet front, settling
 Debian's /usr/bin/python3 with numpy only.
 """
 import json
@@ -397,6 +399,51 @@ def cmd_convert(case_dir, out_dir):
     print("%s: %d samples to %.2f s" % (NAME, t.size, t[-1]))
 
 
+def cmd_summary(data_dir):
+    meta = json.load(open(os.path.join(data_dir, NAME + ".json")))
+    fl = [e for e in meta["figures"]["floor"] if e["height_m"] == 0.015]
+    ax = meta["figures"]["axis"]
+    print("free jet: the head (half its final downward speed) reaches")
+    for e in ax:
+        if round(e["z_m"] * 100) % 20 == 0 or e["z_m"] <= 0.051:
+            print("  z %.2f m (%.2f m from the exit): %s s" %
+                  (e["z_m"], H - e["z_m"], "%.3f" % e["arrival_s"] if e["arrival_s"] is not None
+                   else "never"))
+    rows = [e for e in fl if "arrival_s" in e and e["arrival_s"] is not None]
+    print("wall jet at 15 mm: r, final u_r, arrival (half of final), within 10 %, within 5 %")
+    for e in rows:
+        if round(e["r_m"] * 100) % 10 == 9 or e["r_m"] in (0.19, 0.29):
+            print("  %.2f m  %.2f m/s  %.3f s  %s  %s" % (
+                e["r_m"], e["final_ur_m_s"], e["arrival_s"],
+                "%.2f s" % e["within_10pct_s"] if e["within_10pct_s"] is not None else "-",
+                "%.2f s" % e["within_5pct_s"] if e["within_5pct_s"] is not None else "-"))
+    fit = [(e["r_m"], e["arrival_s"]) for e in rows if 0.3 <= e["r_m"] <= 1.0]
+    if len(fit) >= 3:
+        r = np.array([f[0] for f in fit])
+        t = np.array([f[1] for f in fit])
+        slope, icpt = np.polyfit(r, t, 1)
+        print("front: arrival = %.3f s + r / %.2f m/s over r 0.3-1.0 m (RMS %.3f s)" %
+              (icpt, 1.0 / slope, float(np.sqrt(np.mean((icpt + slope * r - t) ** 2)))))
+    for lim in (1.0, 1.2):
+        s10 = [e["within_10pct_s"] for e in rows if e["r_m"] <= lim]
+        s5 = [e["within_5pct_s"] for e in rows if e["r_m"] <= lim]
+        if s10 and None not in s10 and None not in s5:
+            print("steady out to %.1f m: within 10 %% by %.2f s, within 5 %% by %.2f s" %
+                  (lim, max(s10), max(s5)))
+    steady = os.path.join(data_dir, "tilt00.0_mesh1_d20_walljet.csv")
+    if os.path.exists(steady):
+        ref = np.genfromtxt(steady, delimiter=",", names=True)
+        ref = ref[ref["direction_deg"] == 0.0]
+        errs = []
+        for e in rows:
+            if 0.1 <= e["r_m"] <= 1.2:
+                u = np.interp(e["r_m"], ref["r_from_c_m"], ref["u_z015_m_s"])
+                errs.append(abs(e["final_ur_m_s"] - u) / u)
+        if errs:
+            print("final u_r at 15 mm against the steady 3-D case (inlet 20 mm), r 0.1-1.2 m: "
+                  "MAPE %.1f %%, worst %.1f %%" % (100 * np.mean(errs), 100 * max(errs)))
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "write":
         cmd_write(argv[2])
@@ -404,6 +451,8 @@ def main(argv):
         cmd_progress(argv[2])
     elif len(argv) == 4 and argv[1] == "convert":
         cmd_convert(argv[2], argv[3])
+    elif len(argv) == 3 and argv[1] == "summary":
+        cmd_summary(argv[2])
     else:
         sys.exit(__doc__)
 
