@@ -7,7 +7,9 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <thread>
 
+#include "common/parallel_for.h"
 #include "common/units.h"
 #include "models/discrepancy_report.h"
 #include "models/discrepancy_statistics.h"
@@ -341,29 +343,37 @@ CorrectionOutcome correct_residual(const ExtendedPredictor& predictor, const Win
                    train_norms.end());
   const double clip = kClip * train_norms[train_norms.size() / 2];
 
-  double best_cv = 0.0;
+  // Every group's cross-validated gain at every bandwidth, the (group, bandwidth) pairs in
+  // parallel: each its own smoothers, the sums in a fixed order (the same bytes on any threads).
   const std::vector<Group> gs = groups();
+  const size_t n_bw = gs.front().bandwidths.size();
+  std::vector<double> cv(gs.size() * n_bw, 0.0);
+  const unsigned hw = std::thread::hardware_concurrency();
+  parallel_for(cv.size(), static_cast<int>(std::clamp<unsigned>(hw, 1, 8)), [&](size_t item) {
+    const Group& g = gs[item / n_bw];
+    const double bw = g.bandwidths[item % n_bw];
+    double before = 0.0, after = 0.0;
+    for (int f = 0; f < kFolds; ++f) {
+      Smoother sm(g, bw);
+      sm.fit(samples, [&](const Sample& s) { return fold[s.window] >= 0 && fold[s.window] != f; });
+      for (const Sample& s : samples) {
+        if (fold[s.window] != f) continue;
+        const Eigen::Vector2d c = sm.at(s);
+        before += loss(s.radial, s.across, clip);
+        after += loss(s.radial - c.x(), s.across - c.y(), clip);
+      }
+    }
+    cv[item] = before > 0.0 ? 1.0 - after / before : 0.0;
+  });
+  double best_cv = 0.0;
   for (size_t gi = 0; gi < gs.size(); ++gi) {
     const Group& g = gs[gi];
-    // The bandwidth by cross-validation over the training windows.
+    // The bandwidth with the best cross-validated gain (the first of equals).
     double cv_gain = -INFINITY, bandwidth = g.bandwidths[0];
-    for (double bw : g.bandwidths) {
-      double before = 0.0, after = 0.0;
-      for (int f = 0; f < kFolds; ++f) {
-        Smoother sm(g, bw);
-        sm.fit(samples,
-               [&](const Sample& s) { return fold[s.window] >= 0 && fold[s.window] != f; });
-        for (const Sample& s : samples) {
-          if (fold[s.window] != f) continue;
-          const Eigen::Vector2d c = sm.at(s);
-          before += loss(s.radial, s.across, clip);
-          after += loss(s.radial - c.x(), s.across - c.y(), clip);
-        }
-      }
-      const double gain = before > 0.0 ? 1.0 - after / before : 0.0;
-      if (gain > cv_gain) {
-        cv_gain = gain;
-        bandwidth = bw;
+    for (size_t b = 0; b < n_bw; ++b) {
+      if (cv[gi * n_bw + b] > cv_gain) {
+        cv_gain = cv[gi * n_bw + b];
+        bandwidth = g.bandwidths[b];
       }
     }
     // Fitted on every training window, scored once on the held-out ones.
