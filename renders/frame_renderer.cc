@@ -1,55 +1,19 @@
 #include "renders/frame_renderer.h"
 
-#include <algorithm>
-
 #include <opencv2/imgproc.hpp>
 
 #include "common/errors.h"
 #include "renders/offscreen_context.h"
 #include "renders/sensor_effects.h"
+#include "sim/kinematic_state.h"
 #include "sim/mujoco_runtime.h"
+#include "sim/scene_look.h"
 
 namespace airtwin {
 namespace {
 
 // Room in the scene for the model's geoms plus MuJoCo's decorations (none are enabled).
 constexpr int kExtraSceneGeoms = 100;
-
-template <typename T>
-void copy_array(T* to, const T* from, int count) {
-  if (count > 0) std::copy_n(from, count, to);
-}
-
-// Copies from `src` into `dst` everything mjv_updateScene reads for the categories drawn here:
-// the poses of bodies (also the skins' bones), geoms, sites, cameras and lights, the tree's
-// centres of mass (camera and light targets) and the tendon paths. Nothing else of `dst` is read.
-void mirror_kinematics(const mjModel* m, const mjData* src, mjData* dst) {
-  dst->time = src->time;
-  copy_array(dst->qpos, src->qpos, m->nq);
-  copy_array(dst->mocap_pos, src->mocap_pos, 3 * m->nmocap);
-  copy_array(dst->mocap_quat, src->mocap_quat, 4 * m->nmocap);
-  copy_array(dst->xpos, src->xpos, 3 * m->nbody);
-  copy_array(dst->xquat, src->xquat, 4 * m->nbody);
-  copy_array(dst->xmat, src->xmat, 9 * m->nbody);
-  copy_array(dst->xipos, src->xipos, 3 * m->nbody);
-  copy_array(dst->ximat, src->ximat, 9 * m->nbody);
-  copy_array(dst->subtree_com, src->subtree_com, 3 * m->nbody);
-  copy_array(dst->xanchor, src->xanchor, 3 * m->njnt);
-  copy_array(dst->xaxis, src->xaxis, 3 * m->njnt);
-  copy_array(dst->geom_xpos, src->geom_xpos, 3 * m->ngeom);
-  copy_array(dst->geom_xmat, src->geom_xmat, 9 * m->ngeom);
-  copy_array(dst->site_xpos, src->site_xpos, 3 * m->nsite);
-  copy_array(dst->site_xmat, src->site_xmat, 9 * m->nsite);
-  copy_array(dst->cam_xpos, src->cam_xpos, 3 * m->ncam);
-  copy_array(dst->cam_xmat, src->cam_xmat, 9 * m->ncam);
-  copy_array(dst->light_xpos, src->light_xpos, 3 * m->nlight);
-  copy_array(dst->light_xdir, src->light_xdir, 3 * m->nlight);
-  copy_array(dst->ten_wrapadr, src->ten_wrapadr, m->ntendon);
-  copy_array(dst->ten_wrapnum, src->ten_wrapnum, m->ntendon);
-  copy_array(dst->ten_length, src->ten_length, m->ntendon);
-  copy_array(dst->wrap_obj, src->wrap_obj, 2 * m->nwrap);
-  copy_array(dst->wrap_xpos, src->wrap_xpos, 6 * m->nwrap);
-}
 
 }  // namespace
 
@@ -92,23 +56,9 @@ FrameRenderer::FrameRenderer(const mjModel* m, const RenderOptions& options,
   mjv_defaultScene(&s.scene);
   mjv_makeScene(m, &s.scene, m->ngeom + kExtraSceneGeoms);
   s.scene_made = true;
-  // The look: no shadows, reflections, skybox, fog or haze (the top view sees only the floor).
-  for (int f : {mjRND_SHADOW, mjRND_REFLECTION, mjRND_SKYBOX, mjRND_FOG, mjRND_HAZE,
-                mjRND_WIREFRAME, mjRND_SEGMENT, mjRND_IDCOLOR}) {
-    s.scene.flags[f] = 0;
-  }
-  // What is drawn: geom groups 0-2 (floor, visual meshes, rig), skins (cotton), textures; no
-  // sites, no decorations (joints, contacts, centres of mass, lights, cameras, ...).
+  // The look shared with the live viewer (sim/scene_look.h).
   mjv_defaultOption(&s.option);
-  for (int g = 0; g < mjNGROUP; ++g) {
-    s.option.geomgroup[g] = g <= 2;
-    s.option.skingroup[g] = 1;
-    s.option.sitegroup[g] = 0;
-  }
-  for (int f = 0; f < mjNVISFLAG; ++f) s.option.flags[f] = 0;
-  s.option.flags[mjVIS_TEXTURE] = 1;
-  s.option.flags[mjVIS_SKIN] = 1;
-  s.option.flags[mjVIS_STATIC] = 1;
+  apply_scene_look(&s.option, &s.scene);
   // The model's fixed camera; no perturbation.
   mjv_defaultCamera(&s.camera);
   s.camera.type = mjCAMERA_FIXED;

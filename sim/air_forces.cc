@@ -148,6 +148,13 @@ void AirForces::set_air(const CfdOrientedField& field, double jet_level) {
   jet_level_ = jet_level;
 }
 
+Eigen::Vector2d AirForces::mean_air(const Eigen::Vector2d& p_W, double z_m) const {
+  const double scale = jet_level_ * params_.field_scale;
+  if (cfd_ != nullptr) return scale * turned(cfd_->at(p_W, z_m).u_W);
+  if (field_ != nullptr) return scale * turned(field_->velocity(p_W));
+  return Eigen::Vector2d::Zero();
+}
+
 void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
   AIRTWIN_DEMAND(o < objects_.size() && cfd_ != nullptr);
   object_cfd_[o] = &field;
@@ -356,9 +363,7 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       const Eigen::Vector2d p = p_body_W_.col(col), v = v_body_W_.col(col);
       // Mean air (turned by the flow deflection) plus turbulence, times the jet level and scale.
       const Eigen::Vector2d mean = u_body_W_.col(col);
-      const Eigen::Vector2d turned(cos_deflection_ * mean.x() - sin_deflection_ * mean.y(),
-                                   sin_deflection_ * mean.x() + cos_deflection_ * mean.y());
-      const Eigen::Vector2d u = scale * (turned + u_turbulent);
+      const Eigen::Vector2d u = scale * (turned(mean) + u_turbulent);
       Eigen::Vector2d f;
       if (po.physical) {
         // 1/2 rho C_D(Re) A |u_rel| u_rel, C_D(Re) = C_D + 24 / Re.

@@ -127,6 +127,12 @@ class AirForces {
   void set_air(const OrientedField& field, double jet_level);
   /// The same with the CFD's air (its mean velocity and turbulence, see the top of this file).
   void set_air(const CfdOrientedField& field, double jet_level);
+  /// The mean air (m/s, world frame) at floor point p_W (m) and height z_m (m; the CFD's air
+  /// depends on it, the analytical field does not) as the drag sees it before turbulence: the
+  /// common air of set_air (not an object's own lagged air), turned by the flow deflection, times
+  /// the jet level and the field scale. Zero before set_air. For pictures (the live viewer's
+  /// arrows); the forces do not call it.
+  Eigen::Vector2d mean_air(const Eigen::Vector2d& p_W, double z_m) const;
   /// In the CFD's air, object o feels `field` instead of the common air until
   /// clear_object_air(): the wall jet's transport lag gives each object the orientation whose air
   /// has reached it (sim/air_transport.h). `field` must outlive the next apply().
@@ -171,6 +177,11 @@ class AirForces {
     int free_dof = -1;       // >= 0: translational dofs of a free joint anchored at the origin
     std::vector<int> chain;  // otherwise: every dof from the body up to its root
   };
+  // `mean` turned by the flow deflection (counter-clockwise positive).
+  Eigen::Vector2d turned(const Eigen::Vector2d& mean) const {
+    return {cos_deflection_ * mean.x() - sin_deflection_ * mean.y(),
+            sin_deflection_ * mean.x() + cos_deflection_ * mean.y()};
+  }
   void bind(const mjModel* m);
   void compute_forces(const mjModel* m, const mjData* d, bool air);
   void run(const mjModel* m, mjData* d, bool reference) noexcept;
