@@ -15,6 +15,7 @@ void add_identify_command(CLI::App& app);   // section IV: SINDy on trajectories
 void add_collect_command(CLI::App& app);    // Appendix D protocol in the twin -> trajectory CSV
 void add_calibrate_dynamics_command(CLI::App& app);  // tune twin drag/friction to eq. (8)
 void add_run_command(CLI::App& app);          // section V: a scenario in closed loop in the twin
+void add_view_command(CLI::App& app);         // the same run shown live in a window
 void add_scene_command(CLI::App& app);        // the twin's scene as MJCF files for MuJoCo
 void add_batch_command(CLI::App& app);        // scenarios x seeds in parallel, resumable, shards
 void add_batch_merge_command(CLI::App& app);  // the shards of a batch -> one report

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   airtwin::cli::add_collect_command(app);
   airtwin::cli::add_calibrate_dynamics_command(app);
   airtwin::cli::add_run_command(app);
+  airtwin::cli::add_view_command(app);
   airtwin::cli::add_scene_command(app);
   airtwin::cli::add_batch_command(app);
   airtwin::cli::add_batch_merge_command(app);

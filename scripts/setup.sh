@@ -22,6 +22,9 @@ packages=(
   libmujoco-dev libqhull-dev libgl-dev
   # offscreen rendering
   libosmesa6-dev
+  # the live viewer (airtwin view, docs/viewer.md): GLFW, Mesa's GLX and its software driver,
+  # and Xvfb, the X server its test draws on
+  libglfw3-dev libglx-mesa0 libgl1-mesa-dri xvfb
   # numerics: Eigen (incl. its Levenberg-Marquardt), SUNDIALS CVODE
   libeigen3-dev libsundials-dev
   # vision, images and video (ffmpeg backs cv::VideoWriter)
