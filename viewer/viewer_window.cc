@@ -107,7 +107,7 @@ class Window {
   int step_requests_ = 0;
   double speed_ = 1.0;
   double anchor_wall_ = 0.0, anchor_sim_ = 0.0;    // pacing: sim time due = anchor + speed x wall
-  std::deque<std::pair<double, double>> history_;  // (wall, sim) of the last second: the speed
+  std::deque<std::pair<double, double>> history_;  // (wall, sim) of the last 2 s: the speed
   bool overlay_ = true;
 
   bool left_ = false, middle_ = false, right_ = false;
@@ -213,10 +213,6 @@ bool Window::advance() {
   frame_ = decode_view_frame(message->payload);
   restore_kinematics(model_.get(), frame_.kinematics, data_.get());
   if (first_index_ < 0) first_index_ = frame_.index;
-  history_.emplace_back(glfwGetTime(), sim_time());
-  while (history_.size() > 2 && history_.back().first - history_.front().first > 1.0) {
-    history_.pop_front();
-  }
   return true;
 }
 
@@ -441,10 +437,19 @@ void Window::run() {
       while (sim_time() + 0.5 / kCameraRateHz < due && glfwGetTime() - start < kDrawPeriodS &&
              !steps_done() && advance()) {
       }
-      // Slower than asked (the simulation cannot keep up): do not build up a debt to catch up.
+      // More than 0.25 s behind (the simulation or the drawing cannot keep up): drop the debt
+      // rather than race to catch up later.
       if (due - sim_time() > 0.25 * speed_) {
-        anchor_wall_ = glfwGetTime() - 0.25;
+        anchor_wall_ = glfwGetTime();
         anchor_sim_ = sim_time();
+      }
+    }
+    // The measured speed: simulated over wall time across the last 2 s, sampled once a loop
+    // after the fetch (sampled per frame, the bursts after a slow draw biased it by ~10 %).
+    if (!paused_ && !ended_) {
+      history_.emplace_back(glfwGetTime(), sim_time());
+      while (history_.size() > 2 && history_.back().first - history_.front().first > 2.0) {
+        history_.pop_front();
       }
     }
     const bool done = options_.steps > 0 && (ended_ || steps_done());
