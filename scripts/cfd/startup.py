@@ -22,6 +22,7 @@ import numpy as np
 
 from cfdcase import (CMU, EPS_AMB, H, INTENSITY, K_AMB, K_KIN, LSCALE, NU, git_commit_of, grading,
                      write_file)
+from cfdcase import SCHEMES as SCHEMES_STEADY
 
 NAME = "startup_tilt00_d40"
 D = 0.040                 # inlet diameter (m): the same momentum flux as the rig's nozzle, see below
@@ -128,28 +129,10 @@ functions
 %(probes)s}
 """
 
-SCHEMES = """ddtSchemes { default Euler; }
-
-gradSchemes
-{
-    default         Gauss linear;
-    grad(U)         cellLimited Gauss linear 1;
-}
-
-divSchemes
-{
-    default         none;
-    div(phi,U)      Gauss linearUpwind grad(U);
-    div(phi,k)      Gauss upwind;
-    div(phi,epsilon) Gauss upwind;
-    div((nuEff*dev2(T(grad(U))))) Gauss linear;
-}
-
-laplacianSchemes { default Gauss linear limited corrected 0.5; }
-interpolationSchemes { default linear; }
-snGradSchemes { default limited corrected 0.5; }
-wallDist { method meshWave; }
-"""
+# The steady cases' schemes, time-accurate: Euler in time, and without the steady solver's
+# "bounded" convection (which subtracts the continuity error a converged steady state drives to 0).
+SCHEMES = SCHEMES_STEADY.replace("default steadyState;", "default Euler;").replace(
+    "bounded Gauss", "Gauss")
 
 SOLUTION = """solvers
 {
