@@ -64,6 +64,46 @@ ordered_json file_identity(const std::string& path) {
   return {{"file", path}, {"content_hash", content_hash(read_text_file(path))}};
 }
 
+// The values of every `name="..."` attribute in an XML text, in order.
+std::vector<std::string> attribute_values(const std::string& xml, const std::string& name) {
+  std::vector<std::string> values;
+  const std::string key = " " + name + "=\"";
+  for (size_t at = xml.find(key); at != std::string::npos; at = xml.find(key, at + 1)) {
+    const size_t begin = at + key.size();
+    const size_t end = xml.find('"', begin);
+    if (end == std::string::npos) break;
+    values.push_back(xml.substr(begin, end - begin));
+  }
+  return values;
+}
+
+// A user's MJCF scene for the manifest: the file's identity and that of every file it names
+// (`file="..."`: meshes, textures, includes), looked up as MuJoCo does, beside the scene or in the
+// compiler's meshdir, texturedir or assetdir. The scene has been loaded already (check_user_scene),
+// so the files it names exist.
+ordered_json scene_identity(const std::string& path) {
+  namespace fs = std::filesystem;
+  ordered_json scene = file_identity(path);
+  const std::string xml = read_text_file(path);
+  const fs::path folder = fs::path(path).parent_path();
+  std::vector<fs::path> dirs = {folder};
+  for (const char* dir : {"meshdir", "texturedir", "assetdir"}) {
+    for (const std::string& d : attribute_values(xml, dir)) dirs.push_back(folder / d);
+  }
+  scene["assets"] = ordered_json::array();
+  for (const std::string& name : attribute_values(xml, "file")) {
+    for (const fs::path& dir : dirs) {
+      std::error_code ec;
+      const fs::path candidate = fs::path(name).is_absolute() ? fs::path(name) : dir / name;
+      if (fs::is_regular_file(candidate, ec)) {
+        scene["assets"].push_back(file_identity(candidate.string()));
+        break;
+      }
+    }
+  }
+  return scene;
+}
+
 // Everything besides the scenarios and seeds that a batch's results depend on.
 ordered_json batch_settings(const BatchArgs& a) {
   const RunSetupFlags& f = a.setup;
@@ -78,6 +118,7 @@ ordered_json batch_settings(const BatchArgs& a) {
   s["models"] = ordered_json::array();
   for (const std::string& m : f.models) s["models"].push_back(file_identity(m));
   s["effects"] = f.effects;
+  s["scene"] = f.mjcf.empty() ? ordered_json("built") : scene_identity(f.mjcf);
   s["air"] = air_identity(f.air);
   s["logs"] = a.logs;
   // The program itself: another build may give other results, so it may not resume this batch.
@@ -124,6 +165,15 @@ void run_batch_command(const BatchArgs& a) {
   const AirFieldModel field = field_model_of(a.setup);
   BatchRunOptions options;
   options.run = run_options_of(a.setup);
+  // --mjcf: the one scene must hold every scenario's objects; checked before the folder is made.
+  for (const BatchScenario& s : plan.scenarios) {
+    try {
+      check_user_scene(a.setup, s.scenario, options.run);
+    } catch (const InputError& e) {
+      if (plan.scenarios.size() == 1) throw;
+      throw InputError(std::string(e.what()) + " (scenario " + s.file + ")");
+    }
+  }
   options.jobs = a.jobs > 0 ? a.jobs : usable_cpus();
   options.keep_logs = a.logs;
 

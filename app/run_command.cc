@@ -17,7 +17,6 @@
 #include "runs/run_video.h"
 #include "runs/scenario_run.h"
 #include "scenes/scenario.h"
-#include "sim/scene_builder.h"
 
 namespace airtwin::cli {
 namespace {
@@ -27,7 +26,6 @@ struct RunArgs {
   std::string out;
   RunSetupFlags setup;
   std::string video;
-  std::string mjcf;
   int video_stride = 1;
   uint64_t seed = 0;
   bool quiet = false;
@@ -41,11 +39,7 @@ void run_run(const RunArgs& a) {
   const AirFieldModel field = field_model_of(a.setup);
   ScenarioRunOptions options = run_options_of(a.setup);
   options.seed = a.seed;
-  if (!a.mjcf.empty()) {
-    // A user's scene: checked here, so that one the twin cannot use fails before anything runs.
-    options.twin.scene_file = a.mjcf;
-    load_scene(a.mjcf, scenario.scene, options.twin.scene);
-  }
+  check_user_scene(a.setup, scenario, options);
   std::unique_ptr<Progress> progress;
   const int limit = static_cast<int>(scenario.task.time_limit_s);
   if (!a.quiet)
@@ -135,9 +129,6 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--video", args->video,
                   "Write the top camera with the overlay as H.264 MP4 (1024x1024, 40 fps) and a\n"
                   "sidecar FILE.mp4.json");
-  sub->add_option("--mjcf", args->mjcf,
-                  "Simulate this MJCF scene (e.g. `airtwin scene`'s scene.xml, edited) instead of\n"
-                  "building it; the scenario still gives the task and the objects (docs/twin.md)");
   sub->add_option("--video-stride", args->video_stride,
                   "Keep every k-th camera frame in the video (it then plays k times faster)")
       ->capture_default_str();

@@ -11,6 +11,7 @@
 #include "models/field_model_file.h"
 #include "models/identified_model.h"
 #include "sim/effects.h"
+#include "sim/scene_builder.h"
 
 namespace airtwin::cli {
 
@@ -24,6 +25,9 @@ void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& cal
   sub->add_option("--effect", f.effects,
                   "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
   add_air_flags(sub, f.air);
+  sub->add_option("--mjcf", f.mjcf,
+                  "Simulate this MJCF scene (e.g. `airtwin scene`'s scene.xml, edited) instead of\n"
+                  "building it; the scenario still gives the task and the objects (docs/twin.md)");
   sub->add_flag(
       "--vision", f.vision,
       "The controller sees through the detection pipeline on rendered frames (calibrated\n"
@@ -63,6 +67,7 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   // The twin's physics: its air, with the effects switched on.
   apply_air_flags(f.air, &options.twin);
   apply_effect_flags(f.effects, &options.twin);
+  options.twin.scene_file = f.mjcf;
   // The dynamics the controller plans with, per object type.
   for (const std::string& path : f.models) {
     if (is_extended_model_file(path)) {
@@ -84,6 +89,11 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
     options.vision.blur_sigma_px = noise.blur_sigma_px;
   }
   return options;
+}
+
+void check_user_scene(const RunSetupFlags& f, const Scenario& scenario,
+                      const ScenarioRunOptions& options) {
+  if (!f.mjcf.empty()) load_scene(f.mjcf, scenario.scene, options.twin.scene);
 }
 
 CalibratedCamera vision_camera_of(const RunSetupFlags& f, const ScenarioRunOptions& options,

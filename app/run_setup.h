@@ -1,7 +1,7 @@
 #pragma once
-// What `run` and `batch` share: the flags that set up a closed-loop run besides the scenario and
-// the seed (field table, identified models, twin effects, vision), their checks, and their
-// translation into ScenarioRunOptions (runs/scenario_run.h).
+// What `run`, `view` and `batch` share: the flags that set up a closed-loop run besides the
+// scenario and the seed (field table, identified models, twin effects, a user's MJCF scene,
+// vision), their checks, and their translation into ScenarioRunOptions (runs/scenario_run.h).
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include "app/cli_common.h"
 #include "models/air_field.h"
 #include "runs/scenario_run.h"
+#include "scenes/scenario.h"
 #include "vision/calibrated_camera.h"
 
 namespace airtwin::cli {
@@ -19,6 +20,7 @@ struct RunSetupFlags {
   std::string table;
   std::vector<std::string> models;
   std::vector<std::string> effects;
+  std::string mjcf;  ///< a user's MJCF scene ("": the twin builds it)
   bool vision = false;
   std::string calib;
   double vision_rate_hz = 10.0;
@@ -26,8 +28,8 @@ struct RunSetupFlags {
   AirFlags air;
 };
 
-/// Adds --table, --model, --effect, --air, --cfd, --vision, --calib, --vision-rate and --noise
-/// to `sub`.
+/// Adds --table, --model, --effect, --air, --cfd, --mjcf, --vision, --calib, --vision-rate and
+/// --noise to `sub`.
 /// `calib_default` completes --calib's help: what happens without it.
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& flags, const std::string& calib_default);
 
@@ -43,6 +45,12 @@ AirFieldModel field_model_of(const RunSetupFlags& flags);
 /// --model files, the vision pipeline's rate, noise and blur (the camera is vision_camera_of's).
 /// Throws InputError for an unreadable model or one that names no object type.
 ScenarioRunOptions run_options_of(const RunSetupFlags& flags);
+
+/// With --mjcf: checks that the file is a scene the twin can simulate `scenario` in (load_scene,
+/// sim/scene_builder.h), so that a bad one fails before anything runs or opens. Throws InputError
+/// "<file>: <element>: <what is wrong>; expected ..." for the first thing missing.
+void check_user_scene(const RunSetupFlags& flags, const Scenario& scenario,
+                      const ScenarioRunOptions& options);
 
 /// With --vision: --calib's camera, or the twin's camera calibrated as a user calibrates the rig's
 /// (checkerboard views rendered into `dir`/calibration with `seed` and the flags' noise and blur,

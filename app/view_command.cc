@@ -65,7 +65,8 @@ struct ScratchDir {
 };
 
 void run_view(const ViewArgs& a) {
-  // Flags first, then the scenario, then the display: nothing opens for a run that cannot start.
+  // Flags first, then the scenario and --mjcf's scene, then the display: nothing opens for a run
+  // that cannot start.
   check_run_setup_flags(a.setup);
   if (!(a.speed >= 1.0 / 64.0 && a.speed <= 64.0)) {
     throw UsageError("--speed must be in [1/64, 64], got " + std::to_string(a.speed));
@@ -77,6 +78,7 @@ void run_view(const ViewArgs& a) {
   const AirFieldModel field = field_model_of(a.setup);
   ScenarioRunOptions options = run_options_of(a.setup);
   options.seed = a.seed;
+  check_user_scene(a.setup, scenario, options);
   const char* display = std::getenv("DISPLAY");
   if (display == nullptr || *display == '\0') {
     throw InputError(

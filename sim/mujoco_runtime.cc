@@ -97,8 +97,18 @@ ModelPtr load_locked(const char* file, const mjVFS* vfs, const std::string& sour
   mju_user_error = on_mujoco_error;
   mju_user_warning = on_mujoco_warning;
   if (!m) {
+    // MuJoCo's reason may span lines (an XML parse error does): made one line.
+    std::string reason;
+    for (const char* c = error; *c; ++c) {
+      if (*c != '\n' && *c != '\r') {
+        reason += *c;
+      } else if (!reason.empty() && reason.back() != ' ' && c[1] != '\0') {
+        reason += reason.back() == ':' ? " " : "; ";
+      }
+    }
+    while (!reason.empty() && (reason.back() == ' ' || reason.back() == ';')) reason.pop_back();
     throw InputError(source + ": MuJoCo cannot load the model: " +
-                     (error[0] ? std::string(error) : std::string("unknown reason")));
+                     (reason.empty() ? std::string("unknown reason") : reason));
   }
   return ModelPtr(m);
 }

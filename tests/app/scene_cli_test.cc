@@ -1,12 +1,16 @@
 // `airtwin scene` end to end: the exported MJCF compiles (with MuJoCo's own mj_loadXML, from the
 // file) to the model the twin builds, array for array; the shipped scenes/rig.xml is what the
-// command writes today; `run --mjcf` on an unedited export repeats the plain run bit for bit and
-// an edited one changes it; bad input is one line.
+// command writes today; `run --mjcf` and `batch --mjcf` on an unedited export repeat the plain
+// runs bit for bit and an edited one changes them; the batch's manifest names the scene and its
+// hash; bad input is one line, for `run`, `batch` and `view` alike.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,6 +18,7 @@
 
 #include <mujoco/mjxmacro.h>
 #include <mujoco/mujoco.h>
+#include <nlohmann/json.hpp>
 
 #include "models/air_field.h"
 #include "scenes/scenario.h"
@@ -243,6 +248,132 @@ TEST(SceneCli, RunNamesWhatAUserSceneLacks) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(std::ifstream(d + "/run/log.csv").good());
+}
+
+// line, cut to 4 s: one tracer, a run of ~0.2 s.
+std::string short_line(const std::string& dir) {
+  const std::string path = dir + "/line_4s.yaml";
+  write(path,
+        replace_once(file_text(kScenes + "line.yaml"), "time_limit_s: 120", "time_limit_s: 4"));
+  return path;
+}
+
+// The export of `scenario` with seed 1 in DIR/scene, and beside it heavy.xml: the same with the
+// tracer ten times heavier (mass and inertia). Eq. (8)'s drag and the friction scale with the
+// mass the twin compiles from the file, but the pressure push near s does not (it acts on the
+// volume, sim/air_forces.h), so the heavier tracer is pushed off less and moves otherwise.
+void export_with_heavy_tracer(const std::string& scenario, const std::string& dir) {
+  ASSERT_EQ(run_airtwin("scene " + scenario + " --seed 1 --out " + dir + "/scene").exit_code, 0);
+  write(dir + "/scene/heavy.xml",
+        replace_once(file_text(dir + "/scene/scene.xml"),
+                     "mass=\"0.00016000000000000001\" diaginertia=\"9.3375000000000001e-09 "
+                     "9.3375000000000001e-09 1.44e-08\"",
+                     "mass=\"0.0016000000000000001\" diaginertia=\"9.3375000000000001e-08 "
+                     "9.3375000000000001e-08 1.44e-07\""));
+}
+
+// FNV-1a 64 of a file's bytes as 16 hex digits, computed here from its definition.
+std::string fnv1a(const std::string& bytes) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (const unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+// runs.csv's row of `seed` (its second column), "" if none.
+std::string row_of_seed(const std::string& runs_csv, int seed) {
+  std::istringstream in(runs_csv);
+  for (std::string row; std::getline(in, row);) {
+    const size_t comma = row.find(',');
+    if (comma != std::string::npos &&
+        row.substr(comma + 1, row.find(',', comma + 1) - comma - 1) == std::to_string(seed)) {
+      return row;
+    }
+  }
+  return "";
+}
+
+TEST(SceneCli, BatchOnTheExportRepeatsThePlainBatchAndAnEditChangesIt) {
+  const std::string d = scratch_dir("scene_batch");
+  const std::string scenario = short_line(d);
+  export_with_heavy_tracer(scenario, d);
+  const std::string batch = "batch " + scenario + " --seeds 2 --jobs 1 --quiet ";
+  for (const auto& [dir, flags] : std::vector<std::pair<std::string, std::string>>{
+           {"plain", ""},
+           {"exported", "--mjcf " + d + "/scene/scene.xml"},
+           {"again", "--mjcf " + d + "/scene/scene.xml"},
+           {"heavy", "--mjcf " + d + "/scene/heavy.xml"}}) {
+    const auto r = run_airtwin(batch + flags + " --out " + d + "/" + dir);
+    ASSERT_EQ(r.exit_code, 0) << dir << ": " << r.err;
+  }
+  const std::string exported = file_text(d + "/exported/runs.csv");
+  ASSERT_EQ(count_lines(exported), 3) << exported;  // the header and seeds 1 and 2
+  // The same inputs, the same bytes.
+  EXPECT_EQ(exported, file_text(d + "/again/runs.csv"));
+  // Seed 1 is the export's seed: the unedited scene runs as the built one. (Seed 2's built scene
+  // draws the tracer's heading from seed 2, the file keeps seed 1's.)
+  const std::string plain = file_text(d + "/plain/runs.csv");
+  ASSERT_FALSE(row_of_seed(plain, 1).empty()) << plain;
+  EXPECT_EQ(row_of_seed(plain, 1), row_of_seed(exported, 1));
+  // The heavier tracer changes both runs.
+  const std::string heavy = file_text(d + "/heavy/runs.csv");
+  for (int seed : {1, 2}) {
+    EXPECT_NE(row_of_seed(heavy, seed), row_of_seed(exported, seed)) << "seed " << seed;
+    EXPECT_FALSE(row_of_seed(heavy, seed).empty()) << heavy;
+  }
+
+  // The manifest names the scene and the mesh it loads, with hashes of their bytes.
+  const auto manifest = nlohmann::json::parse(file_text(d + "/heavy/batch.json"));
+  const nlohmann::json& scene = manifest["settings"]["scene"];
+  EXPECT_EQ(scene["file"], d + "/scene/heavy.xml") << scene;
+  EXPECT_EQ(scene["content_hash"], fnv1a(file_text(d + "/scene/heavy.xml"))) << scene;
+  ASSERT_EQ(scene["assets"].size(), 1u) << scene;
+  EXPECT_EQ(scene["assets"][0]["content_hash"], fnv1a(file_text(d + "/scene/hemisphere.stl")));
+  EXPECT_EQ(nlohmann::json::parse(file_text(d + "/plain/batch.json"))["settings"]["scene"],
+            "built");
+  // So a batch is not resumed with another scene, nor with the same file after an edit.
+  auto r = run_airtwin(batch + "--mjcf " + d + "/scene/scene.xml --out " + d + "/heavy");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("/settings/scene/content_hash"), std::string::npos) << r.err;
+  r = run_airtwin(batch + "--out " + d + "/heavy");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("/settings/scene"), std::string::npos) << r.err;
+}
+
+TEST(SceneCli, BatchAndViewNameWhatAUserSceneLacks) {
+  const std::string d = scratch_dir("scene_batch_missing");
+  const std::string scenario = short_line(d);
+  ASSERT_EQ(run_airtwin("scene " + scenario + " --out " + d + "/scene").exit_code, 0);
+  // The camera renamed: the twin renders through `top`.
+  write(d + "/scene/renamed.xml", replace_once(file_text(d + "/scene/scene.xml"),
+                                               "<camera name=\"top\"", "<camera name=\"above\""));
+  const std::string expected = "renamed.xml: camera 'top' not found";
+  auto r = run_airtwin("batch " + scenario + " --seeds 2 --quiet --mjcf " + d +
+                       "/scene/renamed.xml --out " + d + "/batch");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d + "/batch")) << "nothing is written for a bad scene";
+  // Two scenarios against one scene: the message says which one the scene does not fit.
+  r = run_airtwin("batch " + scenario + " " + short_sorting(d) + " --seeds 1 --quiet --mjcf " + d +
+                  "/scene/scene.xml --out " + d + "/batch");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("(scenario " + d + "/sorting_3s.yaml)"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d + "/batch"));
+  // view checks the scene before it looks for a display or opens a window.
+  r = run_airtwin("view " + scenario + " --mjcf " + d + "/scene/renamed.xml");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  // A file MuJoCo cannot parse at all.
+  write(d + "/scene/broken.xml", "<mujoco><worldbody>");
+  r = run_airtwin("view " + scenario + " --mjcf " + d + "/scene/broken.xml");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("broken.xml"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -221,6 +222,27 @@ TEST_F(ViewCliTest, OverlayDrawsTheStagnationPointAndTheAir) {
   EXPECT_LT(at_s[1], 80) << "BGR at s: " << at_s;
   const Comparison c = compare(shot, ref.frame);
   EXPECT_GT(c.pixels_beyond, 10000) << "of " << shot.total();
+}
+
+// --mjcf: the run is that of the user's scene. The unedited export of seed 1 gives the built
+// scene's picture to the pixel; the tracer made ten times heavier (eq. (8)'s drag scales with the
+// file's mass, the pressure push near s does not) is elsewhere at frame 80.
+TEST_F(ViewCliTest, MjcfSceneIsTheOneShown) {
+  const std::string d = scratch_dir("view_mjcf");
+  ASSERT_EQ(run_airtwin("scene '" + kLine + "' --seed 1 --out " + d).exit_code, 0);
+  const std::string xml = testing::file_text(d + "/scene.xml");
+  const std::string mass = "mass=\"0.00016000000000000001\"";
+  ASSERT_NE(xml.find(mass), std::string::npos);
+  std::string heavy = xml;
+  heavy.replace(heavy.find(mass), mass.size(), "mass=\"0.0016000000000000001\"");
+  { std::ofstream(d + "/heavy.xml", std::ios::binary) << heavy; }
+
+  const cv::Mat built = screenshot("--no-overlay");
+  const cv::Mat exported = screenshot("--no-overlay --mjcf " + d + "/scene.xml");
+  const cv::Mat heavier = screenshot("--no-overlay --mjcf " + d + "/heavy.xml");
+  ASSERT_FALSE(built.empty() || exported.empty() || heavier.empty());
+  EXPECT_EQ(compare(built, exported).pixels_differing, 0);
+  EXPECT_GT(compare(exported, heavier).pixels_differing, 0);
 }
 
 // Bad input: one line on stderr, a non-zero exit, quickly; no window is needed to say so.
