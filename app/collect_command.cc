@@ -1,7 +1,11 @@
-// airtwin collect: the Appendix D protocol in the twin (sim/collection.h). Writes the trajectory
-// CSV that `airtwin identify` and `airtwin discrepancy` read.
+// airtwin collect: the Appendix D protocol in the twin (sim/collection.h), positions from the
+// twin's truth or, with --vision, through the rendered camera and the detection pipeline
+// (runs/camera_collection.h). Writes the trajectory CSV that `airtwin identify` and
+// `airtwin discrepancy` read.
 
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -14,6 +18,8 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/field_model_file.h"
+#include "rigs/vision_perception.h"
+#include "runs/camera_collection.h"
 #include "sim/collection.h"
 #include "sim/effects.h"
 
@@ -28,12 +34,56 @@ struct CollectArgs {
   std::vector<std::string> effects;
   AirFlags air;
   CollectionOptions options;
+  bool vision = false;
+  std::string calib;
+  std::string noise = "none";
+  std::string truth_out;
 };
+
+// The camera model of --vision: --calib's, or the twin's camera calibrated from rendered
+// checkerboard views as `run --vision` does, the views into <out stem>_calibration/ and the model
+// into <out stem>_calib.yaml beside the output.
+CalibratedCamera collection_camera(const CollectArgs& a, const NoiseLevel& noise) {
+  if (!a.calib.empty()) return CalibratedCamera::read(a.calib);
+  const std::filesystem::path out(a.out);
+  const std::string stem = (out.parent_path() / out.stem()).string();
+  const CalibratedCamera camera =
+      calibrate_twin_camera(stem + "_calibration", a.options.twin.scene, a.options.seed,
+                            noise.noise_sigma_grey, noise.blur_sigma_px);
+  camera.write(stem + "_calib.yaml");
+  std::printf("calibrated the camera from rendered checkerboard views: RMS %.3f px, %s\n",
+              camera.rms_reprojection_px, (stem + "_calib.yaml").c_str());
+  return camera;
+}
+
+// --vision: the trials through the camera; prints what was kept and dropped, and the camera's
+// error against the twin's truth.
+TrajectorySet collect_through_camera(const CollectArgs& a, const AirFieldModel& field,
+                                     const std::function<void(int, int)>& progress) {
+  const NoiseLevel noise = parse_noise(a.noise);
+  CameraCollectionOptions co;
+  co.collection = a.options;
+  co.noise_sigma_grey = noise.noise_sigma_grey;
+  co.blur_sigma_px = noise.blur_sigma_px;
+  const CalibratedCamera camera = collection_camera(a, noise);
+  const CameraCollectionResult r = run_camera_collection(co, field, camera, progress);
+  if (!a.truth_out.empty()) write_text_file(a.truth_out, trajectory_csv(r.truth));
+  std::printf(
+      "camera: kept %d of %d trials, dropped %d (%d not found at the start, %d lost, %d left the "
+      "view); camera against truth over %lld positions: RMS %.2f mm, max %.2f mm\n",
+      r.kept, r.planned, r.dropped(), r.not_found_at_start, r.lost, r.left_view,
+      static_cast<long long>(r.positions), 1e3 * r.rms_error_m, 1e3 * r.max_error_m);
+  return r.camera;
+}
 
 void run_collect(CollectArgs a) {
   CollectionOptions& o = a.options;
   o.tilts_rad = parse_degree_list(a.tilts, "--tilts");
   if (!a.table.empty() && a.air.air != "model") throw UsageError("--table needs --air model");
+  if (!a.vision && (!a.calib.empty() || a.noise != "none" || !a.truth_out.empty())) {
+    throw UsageError("--calib, --noise and --truth-out need --vision");
+  }
+  parse_noise(a.noise);
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
@@ -43,18 +93,22 @@ void run_collect(CollectArgs a) {
   const int total = static_cast<int>(o.tilts_rad.size()) * o.per_tilt;
   std::unique_ptr<Progress> progress;
   if (!a.quiet) progress = std::make_unique<Progress>("collect", "trials", total);
-  const TrajectorySet set = run_collection(o, field, [&](int done, int) {
+  if (!a.truth_out.empty()) ensure_parent_dir(a.truth_out);
+  const auto report = [&](int done, int) {
     if (progress) progress->update(done);
-  });
+  };
+  const TrajectorySet set =
+      a.vision ? collect_through_camera(a, field, report) : run_collection(o, field, report);
   if (progress) progress->finish();
   write_text_file(a.out, trajectory_csv(set));
   std::string effect_list;
   for (const Effect& e : effects)
     effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
-  std::printf("collected %d %s trajectories (%d per tilt, seed %llu, %s air%s%s) into %s\n", total,
-              o.object.c_str(), o.per_tilt, static_cast<unsigned long long>(o.seed),
-              a.air.air.c_str(), effects.empty() ? "" : ", effects ", effect_list.c_str(),
-              a.out.c_str());
+  std::printf("collected %d %s trajectories (%d per tilt, seed %llu, %s air%s%s%s) into %s\n",
+              static_cast<int>(set.trajectories.size()), o.object.c_str(), o.per_tilt,
+              static_cast<unsigned long long>(o.seed), a.air.air.c_str(),
+              effects.empty() ? "" : ", effects ", effect_list.c_str(),
+              a.vision ? ", through the camera" : "", a.out.c_str());
 }
 
 }  // namespace
@@ -95,6 +149,19 @@ void add_collect_command(CLI::App& app) {
                   "Switch on a physical effect the nominal model lacks, NAME or "
                   "NAME:key=value,...; repeatable. Effects:\n" +
                       effect_help());
+  sub->add_flag("--vision", args->vision,
+                "Record each trial through the twin's rendered top camera and the detection\n"
+                "pipeline (calibrated camera, detection, tracking) instead of the twin's truth;\n"
+                "trials whose object is not followed over the record are dropped and counted");
+  sub->add_option(
+      "--calib", args->calib,
+      "With --vision: the camera model (calib.yaml from 'airtwin calibrate'); default:\n"
+      "the twin's camera calibrated from rendered checkerboard views, written beside\n"
+      "--out as <stem>_calib.yaml (views in <stem>_calibration/)");
+  sub->add_option("--noise", args->noise, "With --vision: sensor noise none | low | high")
+      ->capture_default_str();
+  sub->add_option("--truth-out", args->truth_out,
+                  "With --vision: also write the twin's positions of the kept trials' frames");
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->callback([args] { run_collect(*args); });
 }

@@ -83,8 +83,8 @@ std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
   return plan;
 }
 
-Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
-                                const AirFieldModel& field) {
+void run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
+                          const AirFieldModel& field, const CollectionFrameRecorder& record) {
   SceneSpec spec;
   spec.source = "collection trial " + std::to_string(trial.index);
   spec.objects.push_back({std::to_string(trial.index), o.object, trial.start_W, std::nullopt});
@@ -99,13 +99,11 @@ Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOp
   twin.advance(o.wait_s - lead_s);
   const double t0 = twin.time() + lead_s;  // the re-aim
 
-  Trajectory tr;
-  tr.id = std::to_string(trial.index);
-  tr.object = o.object;
+  int frame = 0;
   for (int k = -lead_frames; k < 0; ++k) {  // the lead-in, at the idle command
     const double t = k / o.frame_rate_hz;
     twin.advance_to(t0 + t);
-    tr.samples.push_back({t, twin.object_state(0).p_W, o.idle});
+    record(twin, frame++, t, o.idle);
   }
   twin.advance_to(t0);
   twin.command_nozzle(trial.target);  // (iii) re-aim and record
@@ -113,8 +111,19 @@ Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOp
   for (int k = 0; k <= frames; ++k) {
     const double t = k / o.frame_rate_hz;
     twin.advance_to(t0 + t);
-    tr.samples.push_back({t, twin.object_state(0).p_W, trial.target});
+    record(twin, frame++, t, trial.target);
   }
+}
+
+Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
+                                const AirFieldModel& field) {
+  Trajectory tr;
+  tr.id = std::to_string(trial.index);
+  tr.object = o.object;
+  run_collection_trial(trial, o, field,
+                       [&](const Twin& twin, int, double t, const NozzleOrientation& command) {
+                         tr.samples.push_back({t, twin.object_state(0).p_W, command});
+                       });
   return tr;
 }
 

@@ -8,8 +8,8 @@
 //
 // The output is the trajectory CSV of the identification (models/trajectory_data.h): one
 // trajectory per trial, t = 0 at the re-aim, the command in force (the trial's orientation) on
-// every row, positions from the twin's truth (the camera and detection pipeline add their own
-// errors on top, see the vision folder).
+// every row, positions from the twin's truth (runs/camera_collection.h records the same trials
+// through the rendered camera and the detection pipeline, as the rig did).
 //
 // Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
 // the trial's index only, so a trial's data do not depend on the thread count or on other trials.
@@ -62,8 +62,21 @@ struct CollectionTrial {
 /// object at a uniform distance in [min, max] from the trial's s in a uniform direction.
 std::vector<CollectionTrial> plan_collection(const CollectionOptions& options);
 
-/// Runs one trial: its recorded trajectory (id = the trial index). Throws SimulationError when
-/// the twin fails.
+/// What a recorder is shown of each recorded frame of a trial: the twin at the frame's time,
+/// `frame` its index in the record (0 = the first lead-in frame, or the re-aim without lead-in),
+/// t_s its time from the re-aim (s, negative in the lead-in) and the command then in force.
+using CollectionFrameRecorder =
+    std::function<void(const Twin& twin, int frame, double t_s, const NozzleOrientation& command)>;
+
+/// Runs one trial by the protocol and calls `record` at each of its recorded frames (lead-in,
+/// then the re-aim and the record), in time order. A recorder that sees the twin through a camera
+/// records what the camera sees (runs/camera_collection.h). Throws SimulationError when the twin
+/// fails, and what `record` throws.
+void run_collection_trial(const CollectionTrial& trial, const CollectionOptions& options,
+                          const AirFieldModel& field, const CollectionFrameRecorder& record);
+
+/// Runs one trial: its recorded trajectory from the twin's truth (id = the trial index). Throws
+/// SimulationError when the twin fails.
 Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& options,
                                 const AirFieldModel& field);
 

@@ -1,7 +1,10 @@
-// `airtwin collect` end to end: the trajectory CSV it writes, same seed same bytes, effects, and
-// one clear line for bad flags. (The physics is tested in tests/sim.)
+// `airtwin collect` end to end: the trajectory CSV it writes, same seed same bytes, effects, the
+// collection through the camera (--vision), and one clear line for bad flags. (The physics is
+// tested in tests/sim, the camera's collection in tests/runs.)
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "common/csv.h"
 #include "models/trajectory_data.h"
@@ -61,6 +64,45 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/heavy.csv"));
 }
 
+TEST(CollectCli, VisionRecordsThroughTheCalibratedCamera) {
+  const std::string d = scratch_dir("collect_vision");
+  const auto r = run_airtwin(
+      "collect --vision --noise low --per-tilt 1 --record 0.5 --quiet --seed 4 --truth-out " + d +
+      "/truth.csv --out " + d + "/v/data.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The camera calibrated first from rendered checkerboard views, beside the output.
+  EXPECT_NE(r.out.find("calibrated the camera"), std::string::npos) << r.out;
+  EXPECT_NE(read_text_file(d + "/v/data_calib.yaml").find("1024"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(d + "/v/data_calibration/view_00.png"));
+  // What was kept and dropped, and the camera's error, in one stated line.
+  EXPECT_NE(r.out.find("camera: kept 2 of 2 trials, dropped 0 (0 not found at the start, 0 lost, "
+                       "0 left the view); camera against truth over 42 positions"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("collected 2 tracer trajectories"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("through the camera"), std::string::npos) << r.out;
+  // The camera's positions differ from the twin's truth of the same frames by less than 3 mm.
+  const TrajectorySet camera = read_trajectory_csv(d + "/v/data.csv");
+  const TrajectorySet truth = read_trajectory_csv(d + "/truth.csv");
+  ASSERT_EQ(camera.trajectories.size(), 2u);
+  ASSERT_EQ(truth.trajectories.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(camera.trajectories[i].samples.size(), 21u);
+    ASSERT_EQ(truth.trajectories[i].samples.size(), 21u);
+    for (size_t k = 0; k < 21; ++k) {
+      EXPECT_LT(
+          (camera.trajectories[i].samples[k].p_W - truth.trajectories[i].samples[k].p_W).norm(),
+          3e-3);
+    }
+  }
+  // The truth file is the plain collection's positions of the same trials.
+  ASSERT_EQ(
+      run_airtwin("collect --per-tilt 1 --record 0.5 --quiet --seed 4 --out " + d + "/plain.csv")
+          .exit_code,
+      0);
+  EXPECT_EQ(read_text_file(d + "/truth.csv"), read_text_file(d + "/plain.csv"));
+}
+
 TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --object pebble --out x.csv", "--object");
   expect_usage_error("collect --tilts 70 --out x.csv", "--tilts");
@@ -85,6 +127,16 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("no CFD case"), std::string::npos) << r.err;
+  expect_usage_error("collect --calib c.yaml --out x.csv",
+                     "--calib, --noise and --truth-out need --vision");
+  expect_usage_error("collect --noise low --out x.csv", "need --vision");
+  expect_usage_error("collect --vision --noise loud --out x.csv",
+                     "--noise: expected none, low or high, got 'loud'");
+  const auto no_calib = run_airtwin("collect --vision --calib " + scratch_dir("no_calib") +
+                                    "/missing.yaml --out " + scratch_dir("no_calib") + "/x.csv");
+  EXPECT_EQ(no_calib.exit_code, 1) << no_calib.err;
+  EXPECT_EQ(count_lines(no_calib.err), 1) << no_calib.err;
+  EXPECT_NE(no_calib.err.find("missing.yaml"), std::string::npos) << no_calib.err;
   expect_usage_error("calibrate-dynamics --iterations 0 --out x.json", "--iterations");
   expect_usage_error("calibrate-dynamics --target 1,2 --out x.json", "--target");
   expect_usage_error("calibrate-dynamics --search cd=0.3:1:3 --out x.json",
