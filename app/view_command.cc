@@ -30,6 +30,7 @@ struct ViewArgs {
   uint64_t seed = 0;
   std::string camera;
   bool no_overlay = false;
+  bool paused = false;
   double speed = 1.0;
   int width = 1024, height = 1024;
   int64_t steps = 0;
@@ -94,6 +95,7 @@ void run_view(const ViewArgs& a) {
       "--height", std::to_string(a.height),   "--speed", std::to_string(a.speed)};
   if (!a.camera.empty()) window_args.insert(window_args.end(), {"--camera", a.camera});
   if (a.no_overlay) window_args.push_back("--no-overlay");
+  if (a.paused) window_args.push_back("--paused");
   if (a.steps > 0) window_args.insert(window_args.end(), {"--steps", std::to_string(a.steps)});
   if (!a.screenshot.empty()) window_args.insert(window_args.end(), {"--screenshot", a.screenshot});
   ViewerProcess viewer(viewer_program(), window_args);
@@ -147,6 +149,8 @@ void add_view_command(CLI::App& app) {
                   "Start with this fixed camera of the model (top: the twin's camera) instead of "
                   "the free camera");
   sub->add_flag("--no-overlay", args->no_overlay, "Start with the overlay hidden (O shows it)");
+  sub->add_flag("--paused", args->paused,
+                "Start paused on the first frame (space runs, right arrow steps)");
   sub->add_option("--speed", args->speed, "Real-time factor asked for, in [1/64, 64]")
       ->capture_default_str();
   sub->add_option("--width", args->width, "Window width (px)")->capture_default_str();

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", options.height_px, "Window height (px)");
   app.add_option("--camera", options.camera, "Fixed camera to start with (default: free)");
   app.add_flag("--no-overlay", no_overlay, "Start with the overlay hidden");
+  app.add_flag("--paused", options.paused, "Start paused (space runs, right arrow steps)");
   app.add_option("--speed", options.speed, "Real-time factor asked for");
   app.add_option("--steps", options.steps, "Quit after N camera frames past the first");
   app.add_option("--screenshot", options.screenshot, "PNG written when the steps are done");

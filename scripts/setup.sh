@@ -23,8 +23,8 @@ packages=(
   # offscreen rendering
   libosmesa6-dev
   # the live viewer (airtwin view, docs/viewer.md): GLFW, Mesa's GLX and its software driver,
-  # and Xvfb, the X server its test draws on
-  libglfw3-dev libglx-mesa0 libgl1-mesa-dri xvfb
+  # Xvfb, the X server its test draws on, and xdotool, which types and drags in it (XTest)
+  libglfw3-dev libglx-mesa0 libgl1-mesa-dri xvfb xdotool
   # numerics: Eigen (incl. its Levenberg-Marquardt), SUNDIALS CVODE
   libeigen3-dev libsundials-dev
   # vision, images and video (ffmpeg backs cv::VideoWriter)

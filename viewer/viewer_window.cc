@@ -70,6 +70,7 @@ class Window {
   void add_connector(int type, double width, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                      const float rgba[4]);
   void write_screenshot(const mjrRect& viewport);
+  void show_state_in_title();
   void reanchor();
   double sim_time() const { return data_ ? data_->time : 0.0; }
   // The options' steps are done: that many camera frames shown past the first.
@@ -77,6 +78,7 @@ class Window {
     return options_.steps > 0 && frame_.index - first_index_ >= options_.steps;
   }
   void use_free_camera(bool from_above);
+  void take_free_camera();
 
   // GLFW's callbacks, forwarded to the Window of the GLFW window.
   static Window& of(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
@@ -112,6 +114,8 @@ class Window {
 
   bool left_ = false, middle_ = false, right_ = false;
   double last_x_ = 0.0, last_y_ = 0.0;
+  bool cursor_seen_ = false;  // last_x_, last_y_ come from a cursor event
+  std::string title_;         // the title shown (set again only when the state changes)
 };
 
 Window::~Window() {
@@ -192,6 +196,14 @@ void Window::use_free_camera(bool from_above) {
   camera_.distance = from_above ? 3.2 : 3.4;
   camera_.azimuth = 90.0;
   camera_.elevation = from_above ? -89.9 : -50.0;
+}
+
+void Window::take_free_camera() {
+  // A fixed camera cannot move: take the free camera over from straight above. mjv_moveCamera
+  // moves a camera in the frame of the scene's camera, which is the fixed one until the next
+  // draw: set it to the free camera now, so that the events already queued move the free one.
+  use_free_camera(true);
+  mjv_updateCamera(model_.get(), data_.get(), &camera_, &scene_);
 }
 
 bool Window::advance() {
@@ -320,6 +332,7 @@ void Window::draw(bool screenshot) {
               "pause\nstep (paused)\nspeed x2 / x0.5\nrotate, move, zoom\ncamera\noverlay\nquit",
               &context_);
   glfwSwapBuffers(window_);
+  show_state_in_title();
 }
 
 void Window::write_screenshot(const mjrRect& viewport) {
@@ -335,6 +348,24 @@ void Window::write_screenshot(const mjrRect& viewport) {
     written = false;
   }
   if (!written) throw InputError(options_.screenshot + ": cannot write the screenshot");
+}
+
+void Window::show_state_in_title() {
+  const mjModel* m = model_.get();
+  const char* camera = camera_.type != mjCAMERA_FIXED ? "free"
+                       : m && mj_id2name(m, mjOBJ_CAMERA, camera_.fixedcamid)
+                           ? mj_id2name(m, mjOBJ_CAMERA, camera_.fixedcamid)
+                           : "fixed";
+  char state[256];
+  std::snprintf(state, sizeof(state), " | %.3f s | %s | x%g | camera %s | overlay %s", sim_time(),
+                ended_    ? "run over"
+                : paused_ ? "paused"
+                          : "running",
+                speed_, camera, overlay_ ? "on" : "off");
+  const std::string title = options_.title + state;
+  if (title == title_) return;
+  title_ = title;
+  glfwSetWindowTitle(window_, title_.c_str());
 }
 
 void Window::on_key(int key, int action, int mods) {
@@ -388,16 +419,19 @@ void Window::on_button(int button, int action) {
   if (button == GLFW_MOUSE_BUTTON_LEFT) left_ = down;
   if (button == GLFW_MOUSE_BUTTON_MIDDLE) middle_ = down;
   if (button == GLFW_MOUSE_BUTTON_RIGHT) right_ = down;
-  glfwGetCursorPos(window_, &last_x_, &last_y_);
+  // A drag starts where the last cursor event left the pointer. Asking the server now instead
+  // would give where the pointer is after the motion still queued behind this press, and a quick
+  // drag whose events arrive together would cancel out.
+  if (!cursor_seen_) glfwGetCursorPos(window_, &last_x_, &last_y_);
 }
 
 void Window::on_move(double x, double y) {
   const double dx = x - last_x_, dy = y - last_y_;
   last_x_ = x;
   last_y_ = y;
+  cursor_seen_ = true;
   if (!left_ && !middle_ && !right_) return;
-  // A fixed camera cannot move: take the free camera over from straight above.
-  if (camera_.type != mjCAMERA_FREE) use_free_camera(true);
+  if (camera_.type != mjCAMERA_FREE) take_free_camera();
   const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                      glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
   int action = mjMOUSE_ZOOM;
@@ -413,13 +447,14 @@ void Window::on_move(double x, double y) {
 }
 
 void Window::on_scroll(double dy) {
-  if (camera_.type != mjCAMERA_FREE) use_free_camera(true);
+  if (camera_.type != mjCAMERA_FREE) take_free_camera();
   mjv_moveCamera(model_.get(), mjMOUSE_ZOOM, 0.0, -0.05 * dy, &scene_, &camera_);
 }
 
 void Window::run() {
   speed_ = options_.speed;
   overlay_ = options_.overlay;
+  paused_ = options_.paused;
   open_window();
   send_view_message(fd_, ViewMessageType::kReady);
   receive_model();

@@ -11,7 +11,9 @@
 // real-time factors are shown), the mouse moves the camera as MuJoCo's simulate does (left drag
 // rotates, right drag moves, middle drag or the wheel zooms; shift for the horizontal variants),
 // C cycles between the free camera and the model's fixed cameras, O hides or shows the overlay,
-// Esc or the close button quits.
+// Esc or the close button quits. The window's title carries the state after `title`: simulated
+// time, paused or running, the asked speed, the camera and the overlay ("airtwin view: line seed 1
+// | 0.075 s | paused | x1 | camera top | overlay on"), for a task bar and for scripts.
 //
 // This code runs in its own process, which links GLFW (and through it the system's libGL) and
 // never OSMesa: MuJoCo 2.2's GL loader takes the first of EGL, OSMesa and GLX it finds in the
@@ -30,6 +32,7 @@ struct ViewerWindowOptions {
   /// camera (an oblique view of the floor).
   std::string camera;
   bool overlay = true;  ///< draw the overlay (the O key toggles it)
+  bool paused = false;  ///< start paused, on the first frame (space runs, the right arrow steps)
   double speed = 1.0;   ///< asked real-time factor, in [1/64, 64]
   /// > 0: after this many camera frames past the first (or at the run's end, if sooner) save
   /// `screenshot` and quit.
