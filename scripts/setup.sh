@@ -32,8 +32,9 @@ packages=(
   # command line, data files, logging
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libspdlog-dev
   # tests and benchmarks; clang with its runtime libraries for libFuzzer (scripts/fuzz.sh: the
-  # test stage's fuzz smoke; LLVM itself already comes with clang-format)
-  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev
+  # test stage's fuzz smoke; LLVM itself already comes with clang-format); libcsv, which
+  # bench/library_bench.cc sets beside our CSV reader (docs/decisions.md)
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev libcsv-dev
 )
 if [ "$cfd" = 1 ]; then
   # CFD of the jet: OpenFOAM (with Open MPI) and Debian's Python with numpy for post-processing
