@@ -68,8 +68,10 @@ class Xvfb {
       const int null = ::open("/dev/null", O_WRONLY);
       if (null >= 0) ::dup2(null, STDERR_FILENO);
       const std::string fd = std::to_string(fds[1]);
+      // -noreset: by default the server resets when its last client leaves, and a client that
+      // connects during the reset (the window after a burst of xdotool calls) is refused.
       ::execl(program.c_str(), "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1280x1280x24",
-              "-nolisten", "tcp", static_cast<char*>(nullptr));
+              "-nolisten", "tcp", "-noreset", static_cast<char*>(nullptr));
       ::_exit(127);
     }
     ::close(fds[1]);
