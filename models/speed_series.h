@@ -26,5 +26,9 @@ struct SpeedSeries {
 SpeedSeries read_speed_series_csv(const std::string& path);
 /// Same, from text in memory; `source` names it in messages.
 SpeedSeries parse_speed_series_csv(std::string_view text, const std::string& source);
+/// Same, from columns in memory (t in s, v and vair in m/s, of equal lengths; NaN and infinity
+/// refused): the reader's checks, messages naming `source` and the row index from 0.
+SpeedSeries make_speed_series(std::vector<double> t_s, std::vector<double> v_mps,
+                              std::vector<double> vair_mps, const std::string& source);
 
 }  // namespace airtwin

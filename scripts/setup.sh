@@ -35,6 +35,9 @@ packages=(
   # test stage's fuzz smoke; LLVM itself already comes with clang-format); libcsv, which
   # bench/library_bench.cc sets beside our CSV reader (docs/decisions.md)
   libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev libcsv-dev
+  # the Python module (python/, docs/python.md): pybind11, Python's headers, numpy; its tests
+  # run under pytest
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest
 )
 if [ "$cfd" = 1 ]; then
   # CFD of the jet: OpenFOAM (with Open MPI) and Debian's Python with numpy for post-processing

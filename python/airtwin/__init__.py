@@ -1,0 +1,17 @@
+"""airtwin: the air-jet manipulation twin from Python (docs/python.md).
+
+Units: SI (m, s, m/s) everywhere; angles people type are in degrees and their names end in
+_deg. Arrays of points are N x 2 float64 (x, y in metres, world frame).
+"""
+
+from ._core import (  # noqa: F401  (the public API)
+    CfdField,
+    Field,
+    IdentifiedModel,
+    Prediction,
+    aim,
+    identify_series,
+    object_dynamics,
+    predict,
+    stagnation_point,
+)

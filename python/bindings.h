@@ -1,0 +1,20 @@
+#pragma once
+// The parts of the Python module `airtwin` (python/module.cc assembles them). Bindings are thin:
+// they convert units at the edge (degrees where people type them, SI otherwise), check array
+// shapes, release the GIL around the C++ work and hand arrays over without copies where the
+// layout allows; the logic is the libraries'.
+
+#include <pybind11/pybind11.h>
+
+namespace airtwin::python {
+
+/// InputError (and FieldError, UsageError) -> ValueError with the same message.
+void bind_errors(pybind11::module_& m);
+/// Field (the analytical air field, eqs. 1-3), CfdField, aim and the stagnation point.
+void bind_field(pybind11::module_& m);
+/// Batch trajectory prediction (eqs. 8-9): predict(), Prediction, object_dynamics().
+void bind_prediction(pybind11::module_& m);
+/// Identification of a speed series (section IV): identify_series(), IdentifiedModel.
+void bind_identification(pybind11::module_& m);
+
+}  // namespace airtwin::python

@@ -1,0 +1,15 @@
+// The Python module airtwin._core, re-exported by the package airtwin (python/airtwin/).
+
+#include <pybind11/pybind11.h>
+
+#include "python/bindings.h"
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() =
+      "airtwin: the air-jet manipulation twin from Python. SI units (m, s, m/s) except angles "
+      "people type, which are in degrees and named _deg. docs/python.md.";
+  airtwin::python::bind_errors(m);
+  airtwin::python::bind_field(m);
+  airtwin::python::bind_prediction(m);
+  airtwin::python::bind_identification(m);
+}

@@ -1,0 +1,29 @@
+"""Shared helpers of the Python module's tests: the C++ routes the module is compared with."""
+
+import os
+import subprocess
+
+import pytest
+
+SOURCE_DIR = os.environ["AIRTWIN_SOURCE_DIR"]
+
+
+def run_cli(*args):
+    """Runs the `airtwin` CLI; returns (exit status, stdout, stderr)."""
+    done = subprocess.run([os.environ["AIRTWIN_BINARY"], *map(str, args)], capture_output=True,
+                          text=True, check=False)
+    return done.returncode, done.stdout, done.stderr
+
+
+def cli_error(*args):
+    """The one stderr line of a CLI run that fails with status 1, without 'airtwin: error: '."""
+    status, _, stderr = run_cli(*args)
+    assert status == 1, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("airtwin: error: "), stderr
+    return lines[0][len("airtwin: error: "):]
+
+
+@pytest.fixture
+def source_dir():
+    return SOURCE_DIR

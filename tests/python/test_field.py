@@ -1,0 +1,120 @@
+"""airtwin.Field and airtwin.CfdField against the C++ figures on the same points."""
+
+import csv
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import airtwin
+from conftest import SOURCE_DIR, cli_error, run_cli
+
+ORIENTATIONS = [(0.0, 0.0), (30.0, 22.5), (-135.0, 45.0), (200.0, 60.0)]
+
+
+def random_points(n, seed=7):
+    return np.random.default_rng(seed).uniform(-1.5, 1.5, size=(n, 2))
+
+
+def reference_velocity(table, pan_deg, tilt_deg, points):
+    """The field evaluated by the C++ library in tests/python/field_reference, exact floats."""
+    text = "".join(f"{x.hex()} {y.hex()}\n" for x, y in points.tolist())
+    done = subprocess.run([os.environ["AIRTWIN_FIELD_REFERENCE"], table, repr(pan_deg),
+                           repr(tilt_deg)], input=text, capture_output=True, text=True,
+                          check=True)
+    return np.array([[float.fromhex(v) for v in line.split()]
+                     for line in done.stdout.splitlines()])
+
+
+def cli_grid(tmp_path, *args):
+    """`airtwin field` on the 0.4 m grid of 0.1 m steps: points (N x 2), velocities (N x 2)."""
+    out = tmp_path / "field.csv"
+    status, _, stderr = run_cli("field", *args, "--extent", 0.4, "--step", 0.1, "--out", out)
+    assert status == 0, stderr
+    with open(out, newline="") as f:
+        rows = [[float(r[k]) for k in ("x", "y", "vx", "vy")] for r in csv.DictReader(f)]
+    grid = np.array(rows)
+    return grid[:, :2], grid[:, 2:]
+
+
+@pytest.mark.parametrize("pan_deg,tilt_deg", ORIENTATIONS)
+def test_default_field_equals_the_cpp_library_bit_for_bit(pan_deg, tilt_deg):
+    points = random_points(500)
+    v = airtwin.Field.default().velocity(pan_deg, tilt_deg, points)
+    assert v.shape == (500, 2) and v.dtype == np.float64
+    assert np.array_equal(v, reference_velocity("default", pan_deg, tilt_deg, points))
+
+
+def test_field_model_file_equals_the_cpp_library_bit_for_bit():
+    path = os.path.join(SOURCE_DIR, "models/data/cfd_fitted_field_model.json")
+    points = random_points(300, seed=3)
+    v = airtwin.Field.from_file(path).velocity(40.0, 30.0, points)
+    assert np.array_equal(v, reference_velocity(path, 40.0, 30.0, points))
+    # Another model than the default's: the file was read.
+    assert not np.array_equal(v, airtwin.Field.default().velocity(40.0, 30.0, points))
+
+
+def test_shipped_table_file_equals_the_compiled_in_default():
+    table = airtwin.Field.from_file(os.path.join(SOURCE_DIR, "models/data/default_field_table.csv"))
+    points = random_points(200, seed=5)
+    assert np.array_equal(table.velocity(10.0, 35.0, points),
+                          airtwin.Field.default().velocity(10.0, 35.0, points))
+
+
+@pytest.mark.parametrize("pan_deg,tilt_deg", ORIENTATIONS[1:3])
+def test_model_field_equals_the_cli_grid_to_its_printed_digits(tmp_path, pan_deg, tilt_deg):
+    points, v_cli = cli_grid(tmp_path, "--pan", pan_deg, "--tilt", tilt_deg)
+    v = airtwin.Field.default().velocity(pan_deg, tilt_deg, points)
+    assert np.max(np.abs(v - v_cli)) <= 5e-7 + 1e-12  # %.6f rounds to half a unit
+
+
+def test_cfd_field_equals_the_cli_grid_to_its_printed_digits(tmp_path):
+    points, v_cli = cli_grid(tmp_path, "--pan", 30, "--tilt", 37.5, "--source", "cfd")
+    cfd = airtwin.CfdField.read_dir()
+    v = cfd.velocity(30.0, 37.5, points)
+    assert np.max(np.abs(v - v_cli)) <= 5e-7 + 1e-12
+    assert np.max(np.hypot(v[:, 0], v[:, 1])) > 0.5  # the jet is there
+    assert cfd.min_tilt_deg <= 37.5 <= cfd.max_tilt_deg
+
+
+def test_arrays_of_other_layouts_and_dtypes_give_the_same_figures():
+    field = airtwin.Field.default()
+    points = random_points(100)
+    v = field.velocity(15.0, 25.0, points)
+    fortran = np.asfortranarray(points)
+    strided = np.repeat(points, 2, axis=0)[::2]
+    assert np.array_equal(field.velocity(15.0, 25.0, fortran), v)
+    assert np.array_equal(field.velocity(15.0, 25.0, strided), v)
+    assert np.array_equal(field.velocity(15.0, 25.0, points.tolist()), v)
+    whole = np.array([[1, 0], [0, -1]])
+    assert np.array_equal(field.velocity(15.0, 25.0, whole),
+                          field.velocity(15.0, 25.0, whole.astype(float)))
+    assert field.velocity(15.0, 25.0, np.zeros((0, 2))).shape == (0, 2)
+
+
+def test_bad_input_raises_value_error_with_the_cli_message(tmp_path):
+    bad = tmp_path / "bad_table.csv"
+    bad.write_text("tilt_deg,alpha_deg,b1,b2,b3\n0,0,1,-1,x\n")
+    with pytest.raises(ValueError) as raised:
+        airtwin.Field.from_file(str(bad))
+    assert str(raised.value) == cli_error("field", "--pan", 0, "--tilt", 10, "--table", bad,
+                                          "--out", tmp_path / "f.csv")
+    assert "bad_table.csv" in str(raised.value)
+    missing = tmp_path / "missing.csv"
+    with pytest.raises(ValueError) as raised:
+        airtwin.Field.from_file(str(missing))
+    assert str(raised.value) == cli_error("field", "--pan", 0, "--tilt", 10, "--table", missing,
+                                          "--out", tmp_path / "f.csv")
+
+
+def test_bad_orientation_and_shape_raise_value_error():
+    field = airtwin.Field.default()
+    with pytest.raises(ValueError, match=r"^nozzle orientation: tilt 70\.000000 deg .*fold"):
+        field.velocity(0.0, 70.0, random_points(3))
+    with pytest.raises(ValueError, match=r"^points: expected an N x 2 array, got shape \(3,\)$"):
+        field.velocity(0.0, 10.0, np.zeros(3))
+    with pytest.raises(ValueError, match=r"got shape \(4, 3\)$"):
+        field.velocity(0.0, 10.0, np.zeros((4, 3)))
+    with pytest.raises(ValueError):
+        airtwin.CfdField.read_dir().velocity(0.0, 63.0, random_points(3))
