@@ -16,5 +16,7 @@ void bind_field(pybind11::module_& m);
 void bind_prediction(pybind11::module_& m);
 /// Identification of a speed series (section IV): identify_series(), IdentifiedModel.
 void bind_identification(pybind11::module_& m);
+/// Scenario and Twin (the MuJoCo twin, its nozzle, states and camera frames).
+void bind_twin(pybind11::module_& m);
 
 }  // namespace airtwin::python

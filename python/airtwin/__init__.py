@@ -9,6 +9,8 @@ from ._core import (  # noqa: F401  (the public API)
     Field,
     IdentifiedModel,
     Prediction,
+    Scenario,
+    Twin,
     aim,
     identify_series,
     object_dynamics,

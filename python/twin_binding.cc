@@ -1,0 +1,202 @@
+// The twin from Python: a scenario's objects in the MuJoCo twin, the nozzle commanded in degrees,
+// the objects' states as numpy arrays and the top camera's frames as H x W x 3 uint8 (RGB).
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/units.h"
+#include "models/air_field.h"
+#include "python/bindings.h"
+#include "renders/frame_renderer.h"
+#include "scenes/scenario.h"
+#include "sim/scene_spec.h"
+#include "sim/twin.h"
+
+namespace py = pybind11;
+
+namespace airtwin::python {
+namespace {
+
+using Angles = std::pair<double, double>;
+
+Angles degrees(const NozzleOrientation& o) {
+  return {rad_to_deg(o.pan_rad), rad_to_deg(o.tilt_rad)};
+}
+
+// A twin of a scenario's objects, built as `airtwin run` and `airtwin render` build theirs: the
+// default field model, the analytical air, the servos at rest at the initial orientation and the
+// jet running (settled) or off. reset() builds it again, so it starts over to the last bit.
+class PyTwin {
+ public:
+  PyTwin(const std::string& scenario_path, uint64_t seed, double pan_deg, double tilt_deg,
+         bool jet_on)
+      : scenario_(read_scenario(scenario_path)),
+        field_(AirFieldModel::with_default_table()),
+        seed_(seed),
+        jet_on_(jet_on),
+        twin_(build(pan_deg, tilt_deg)) {}
+
+  void reset() {
+    renderer_.reset();
+    twin_ = build(rad_to_deg(params_.initial_orientation.pan_rad),
+                  rad_to_deg(params_.initial_orientation.tilt_rad));
+  }
+
+  Twin& twin() { return twin_; }
+  const Scenario& scenario() const { return scenario_; }
+
+  // N x 4: x, y (m), vx, vy (m/s) of every object (a copy: the twin computes them on request).
+  py::array_t<double> states() const {
+    const std::vector<ObjectMotion> motion = twin_.object_states();
+    py::array_t<double> out({static_cast<py::ssize_t>(motion.size()), py::ssize_t{4}});
+    double* row = out.mutable_data();
+    for (const ObjectMotion& m : motion) {
+      *row++ = m.p_W.x();
+      *row++ = m.p_W.y();
+      *row++ = m.v_W.x();
+      *row++ = m.v_W.y();
+    }
+    return out;
+  }
+
+  // The top camera's frame of the current state, RGB (the renderer's BGR converted into the
+  // returned array: one pass, no other copy). The renderer is made at the first call, on the
+  // calling thread, which its OpenGL context belongs to.
+  py::array_t<std::uint8_t> render(int64_t frame_index) {
+    if (!renderer_) renderer_ = std::make_unique<FrameRenderer>(twin_.model());
+    py::array_t<std::uint8_t> out(
+        {py::ssize_t{renderer_->height_px()}, py::ssize_t{renderer_->width_px()}, py::ssize_t{3}});
+    cv::Mat rgb(renderer_->height_px(), renderer_->width_px(), CV_8UC3, out.mutable_data());
+    {
+      py::gil_scoped_release release;
+      renderer_->render_into(twin_.data(), frame_index, frame_);
+      cv::cvtColor(frame_, rgb, cv::COLOR_BGR2RGB);
+    }
+    return out;
+  }
+
+ private:
+  Twin build(double pan_deg, double tilt_deg) {
+    params_ = TwinParameters{};
+    params_.initial_orientation = {deg_to_rad(pan_deg), deg_to_rad(tilt_deg)};
+    params_.jet_on_at_start = jet_on_;
+    Twin twin(scenario_.scene, params_, field_, seed_);
+    if (jet_on_) twin.settle_jet();
+    return twin;
+  }
+
+  Scenario scenario_;
+  AirFieldModel field_;
+  uint64_t seed_;
+  bool jet_on_;
+  TwinParameters params_;
+  Twin twin_;
+  std::unique_ptr<FrameRenderer> renderer_;
+  cv::Mat frame_;
+};
+
+}  // namespace
+
+void bind_twin(py::module_& m) {
+  py::class_<Scenario>(m, "Scenario", "A scenario file (scenes/*.yaml, docs/scenario_schema.md).")
+      .def_static("load", &read_scenario, py::arg("path"),
+                  "Reads and checks a scenario; ValueError naming the file, line and key.")
+      .def_readonly("name", &Scenario::name)
+      .def_readonly("description", &Scenario::description)
+      .def_property_readonly("ids",
+                             [](const Scenario& s) {
+                               std::vector<std::string> ids;
+                               for (const ObjectSpec& o : s.scene.objects) ids.push_back(o.id);
+                               return ids;
+                             })
+      .def_property_readonly("types",
+                             [](const Scenario& s) {
+                               std::vector<std::string> types;
+                               for (const ObjectSpec& o : s.scene.objects) types.push_back(o.type);
+                               return types;
+                             })
+      .def_property_readonly(
+          "positions",
+          [](const Scenario& s) {
+            py::array_t<double> out(
+                {static_cast<py::ssize_t>(s.scene.objects.size()), py::ssize_t{2}});
+            double* row = out.mutable_data();
+            for (const ObjectSpec& o : s.scene.objects) {
+              *row++ = o.p_W.x();
+              *row++ = o.p_W.y();
+            }
+            return out;
+          },
+          "N x 2: the objects' start positions (m).")
+      .def_property_readonly("time_limit_s", [](const Scenario& s) { return s.task.time_limit_s; });
+
+  py::class_<PyTwin>(m, "Twin",
+                     "The MuJoCo twin of a scenario's objects (docs/twin.md), with the analytical "
+                     "air of the default field model, as `airtwin run` builds it.")
+      .def(py::init<const std::string&, uint64_t, double, double, bool>(), py::arg("scenario_path"),
+           py::arg("seed"), py::arg("pan_deg") = 0.0, py::arg("tilt_deg") = 0.0,
+           py::arg("jet_on") = true,
+           "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
+           "and the jet running (settled) unless jet_on is False.")
+      .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
+      .def(
+          "command",
+          [](PyTwin& t, double pan_deg, double tilt_deg) {
+            t.twin().command_nozzle({deg_to_rad(pan_deg), deg_to_rad(tilt_deg)});
+          },
+          py::arg("pan_deg"), py::arg("tilt_deg"),
+          "New nozzle target (deg); the servos move toward it as time advances.")
+      .def(
+          "set_jet", [](PyTwin& t, bool on) { t.twin().set_jet(on); }, py::arg("on"))
+      .def(
+          "advance_to",
+          [](PyTwin& t, double t_s) {
+            py::gil_scoped_release release;
+            t.twin().advance_to(t_s);
+          },
+          py::arg("t_s"), "Steps until time_s reaches t_s (to the nearest whole step).")
+      .def(
+          "step",
+          [](PyTwin& t, double pan_deg, double tilt_deg, double duration_s) {
+            t.twin().command_nozzle({deg_to_rad(pan_deg), deg_to_rad(tilt_deg)});
+            {
+              py::gil_scoped_release release;
+              t.twin().advance(duration_s);
+            }
+            return t.states();
+          },
+          py::arg("pan_deg"), py::arg("tilt_deg"), py::arg("duration_s") = 0.025,
+          "Commands the nozzle (deg), advances duration_s (default one 40 Hz camera frame) and "
+          "returns states().")
+      .def("states", &PyTwin::states, "N x 4: x, y (m), vx, vy (m/s) of every object.")
+      .def("render", &PyTwin::render, py::arg("frame_index") = 0,
+           "The top camera's view now: H x W x 3 uint8, RGB, row 0 at the top.")
+      .def_property_readonly("time_s", [](PyTwin& t) { return t.twin().time(); })
+      .def_property_readonly("timestep_s", [](PyTwin& t) { return t.twin().timestep(); })
+      .def_property_readonly("ids",
+                             [](PyTwin& t) {
+                               std::vector<std::string> ids;
+                               for (size_t i = 0; i < t.twin().object_count(); ++i) {
+                                 ids.push_back(t.twin().object(i).id);
+                               }
+                               return ids;
+                             })
+      .def_property_readonly("commanded_deg",
+                             [](PyTwin& t) { return degrees(t.twin().commanded_orientation()); })
+      .def_property_readonly("actual_deg",
+                             [](PyTwin& t) { return degrees(t.twin().actual_orientation()); })
+      .def_property_readonly("stagnation_point", [](PyTwin& t) {
+        const Eigen::Vector2d s = t.twin().stagnation_point();
+        return std::pair<double, double>{s.x(), s.y()};
+      });
+}
+
+}  // namespace airtwin::python
