@@ -13,4 +13,5 @@ PYBIND11_MODULE(_core, m) {
   airtwin::python::bind_prediction(m);
   airtwin::python::bind_identification(m);
   airtwin::python::bind_twin(m);
+  airtwin::python::bind_run(m);
 }

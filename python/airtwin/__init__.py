@@ -9,11 +9,13 @@ from ._core import (  # noqa: F401  (the public API)
     Field,
     IdentifiedModel,
     Prediction,
+    RunResult,
     Scenario,
     Twin,
     aim,
     identify_series,
     object_dynamics,
     predict,
+    run_scenario,
     stagnation_point,
 )

@@ -24,6 +24,14 @@ def cli_error(*args):
     return lines[0][len("airtwin: error: "):]
 
 
+def expect_cli_error(call, *cli_args):
+    """call() raises ValueError with the line the CLI prints for cli_args."""
+    with pytest.raises(ValueError) as raised:
+        call()
+    assert str(raised.value) == cli_error(*cli_args)
+    return str(raised.value)
+
+
 @pytest.fixture
 def source_dir():
     return SOURCE_DIR

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import SOURCE_DIR, cli_error, run_cli
+from conftest import SOURCE_DIR, expect_cli_error, run_cli
 
 OCTAGON = os.path.join(SOURCE_DIR, "scenes/octagon.yaml")
 
@@ -119,12 +119,9 @@ def test_render_shows_the_same_frame_as_the_cli(tmp_path):
 def test_bad_input_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(OCTAGON).read().replace("x: 0.275, y: -0.025", "x: nan, y: -0.025"))
-    with pytest.raises(ValueError) as raised:
-        airtwin.Twin(str(bad), 1)
-    assert str(raised.value) == cli_error("run", bad, "--seed", 1, "--out", tmp_path / "r")
-    with pytest.raises(ValueError) as raised:
-        airtwin.Scenario.load(str(bad))
-    assert str(raised.value) == cli_error("run", bad, "--seed", 1, "--out", tmp_path / "r")
+    cli_args = ("run", bad, "--seed", 1, "--out", tmp_path / "r")
+    assert "nan" in expect_cli_error(lambda: airtwin.Twin(str(bad), 1), *cli_args)
+    expect_cli_error(lambda: airtwin.Scenario.load(str(bad)), *cli_args)
     twin = airtwin.Twin(OCTAGON, 1)
     with pytest.raises(ValueError):
         twin.command(0.0, 80.0)

@@ -1,0 +1,54 @@
+"""airtwin.run_scenario against `airtwin run` on the same scenario and seed."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+import airtwin
+from conftest import SOURCE_DIR, expect_cli_error, run_cli
+
+LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
+
+
+def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", LINE, "--seed", 2, "--quiet", "--out", out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(LINE, 2)
+    assert result.success and result.scenario == "line" and result.seed == 2
+
+    # The same run: every frame, command and decision (decision_ms, a wall-clock time, aside).
+    assert result.log_csv() == (out / "log.csv").read_text()
+    assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
+    summary, cli = json.loads(result.summary_json()), json.loads((out / "summary.json").read_text())
+    summary.pop("decision_ms")
+    cli.pop("decision_ms")
+    assert summary == cli
+    assert cli["success"] and result.completion_time_s == cli["completion_time_s"]
+    assert result.n_decisions == cli["decisions"]
+
+    def strip_ms(text):
+        return [line.rsplit(",", 1)[0] for line in text.splitlines()]
+    assert strip_ms(result.decisions_csv()) == strip_ms((out / "decisions.csv").read_text())
+
+    # The trajectory as an array: the log's rows of the tracer, at full precision.
+    track = result.trajectory("t1")
+    assert track.shape[1] == 3 and np.all(np.diff(track[:, 0]) > 0)
+    rows = [line.split(",") for line in result.log_csv().splitlines()[1:]]
+    assert len(rows) == len(track)
+    assert np.max(np.abs(track - np.array([[float(r[2]), float(r[3]), float(r[4])]
+                                            for r in rows]))) <= 5e-7
+    # The tracer went along the line, from its start to the far end's reference (4 cm).
+    assert np.hypot(*(track[-1, 1:] - (0.26, 0.25))) < 0.04 + 1e-9
+    with pytest.raises(ValueError, match="no object 't9'"):
+        result.trajectory("t9")
+
+
+def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(open(LINE).read().replace("kind: path", "kind: paths"))
+    message = expect_cli_error(lambda: airtwin.run_scenario(str(bad), 1), "run", bad, "--seed", 1,
+                               "--out", tmp_path / "r")
+    assert "task.kind" in message
