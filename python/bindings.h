@@ -18,6 +18,8 @@ void bind_prediction(pybind11::module_& m);
 void bind_identification(pybind11::module_& m);
 /// Scenario and Twin (the MuJoCo twin, its nozzle, states and camera frames).
 void bind_twin(pybind11::module_& m);
+/// CemPlanner and PlanResult: one CEM decision on a planning problem.
+void bind_planner(pybind11::module_& m);
 /// run_scenario and RunResult: a closed-loop run as `airtwin run` runs it.
 void bind_run(pybind11::module_& m);
 

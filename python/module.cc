@@ -13,5 +13,6 @@ PYBIND11_MODULE(_core, m) {
   airtwin::python::bind_prediction(m);
   airtwin::python::bind_identification(m);
   airtwin::python::bind_twin(m);
+  airtwin::python::bind_planner(m);
   airtwin::python::bind_run(m);
 }

@@ -5,9 +5,11 @@ _deg. Arrays of points are N x 2 float64 (x, y in metres, world frame).
 """
 
 from ._core import (  # noqa: F401  (the public API)
+    CemPlanner,
     CfdField,
     Field,
     IdentifiedModel,
+    PlanResult,
     Prediction,
     RunResult,
     Scenario,

@@ -1,0 +1,95 @@
+"""airtwin.CemPlanner against eq. (10) evaluated on airtwin.predict and airtwin.aim, and against
+its own definition (the line search's ray, the returned cost)."""
+
+import os
+
+import numpy as np
+import pytest
+
+import airtwin
+from conftest import SOURCE_DIR
+
+FIELD = airtwin.Field.default()
+TRACER = airtwin.object_dynamics("tracer")
+LINE = airtwin.Scenario.load(os.path.join(SOURCE_DIR, "scenes/line.yaml"))
+OCTAGON = airtwin.Scenario.load(os.path.join(SOURCE_DIR, "scenes/octagon.yaml"))
+
+
+def eq10(positions, references, s, horizon_s):
+    """eq. (10) by another route: aim at s, predict Delta T, sum the distances to the references."""
+    pan_deg, tilt_deg = airtwin.aim(*s)
+    end = airtwin.predict(FIELD, pan_deg, tilt_deg, positions,
+                          np.tile(TRACER, (len(positions), 1)), horizon_s=horizon_s).end[:, :2]
+    return np.hypot(*(end - references).T).sum(), end
+
+
+@pytest.mark.parametrize("s", [(0.55, -0.1), (0.4, 0.3), (0.15, 0.0), (0.3, -0.2)])
+def test_cost_is_eq10_on_the_predicted_ends(s):
+    positions = OCTAGON.positions
+    references = positions + [0.1, 0.05]
+    planner = airtwin.CemPlanner(FIELD, scenario=OCTAGON)
+    cost, end = planner.cost(positions, references, np.tile(TRACER, (4, 1)), s)
+    expected, expected_end = eq10(positions, references, s, planner.horizon_s)
+    # The planner aims in radians; the other route goes through degrees (the last bits).
+    assert cost == pytest.approx(expected, abs=1e-9)
+    assert np.allclose(end, expected_end, rtol=0, atol=1e-9)
+    assert cost != pytest.approx(np.hypot(*(positions - references).T).sum())  # they moved
+
+
+def test_infeasible_candidates_cost_the_penalty():
+    planner = airtwin.CemPlanner(FIELD)
+    positions, references = OCTAGON.positions, OCTAGON.positions + 0.1
+    xi = np.tile(TRACER, (4, 1))
+    assert planner.penalty == 1000.0
+    # Within delta_min (0.10 m) of an object, and beyond the reachable disc (1.65 m).
+    assert planner.cost(positions, references, xi, (0.3, 0.05))[0] == planner.penalty
+    assert planner.cost(positions, references, xi, (2.0, 0.0))[0] == planner.penalty
+    assert planner.cost(positions, references, xi, (0.3, 0.2))[0] < planner.penalty
+
+
+def test_line_plan_pushes_the_tracer_toward_its_reference():
+    planner = airtwin.CemPlanner(FIELD, scenario=LINE)
+    positions, references = LINE.positions, LINE.positions + [0.10, 0.0]
+    xi = np.array([TRACER])
+    plan = planner.plan(positions, references, xi, seed=4)
+    # The line search: s on the ray from the object directly away from its reference.
+    s = np.array(plan.stagnation_point)
+    away = s - positions[0]
+    assert abs(away[1]) < 1e-12 and away[0] < -0.10
+    # Its cost is eq. (10) at s, the push brings the tracer within 1 cm of its reference (from
+    # 10 cm), and the orientation is the aim of s.
+    cost, end = planner.cost(positions, references, xi, plan.stagnation_point)
+    assert plan.cost == cost and np.array_equal(plan.predicted_end, end)
+    assert plan.cost < 0.01
+    assert np.allclose((plan.pan_deg, plan.tilt_deg), airtwin.aim(*s), rtol=0, atol=1e-9)
+    assert plan.evaluations > 0 and 1 <= plan.iterations <= 5
+    # Deterministic: the same stream, the same plan; another decision's stream, another.
+    again = planner.plan(positions, references, xi, seed=4)
+    assert again.stagnation_point == plan.stagnation_point
+    assert planner.plan(positions, references, xi, seed=4, decision=1).stagnation_point != \
+        plan.stagnation_point
+
+
+def test_plane_plan_returns_the_cost_of_its_point():
+    planner = airtwin.CemPlanner(FIELD, search="plane")
+    positions = OCTAGON.positions
+    references = np.array([[0.0, 0.3]] * 4)
+    xi = np.tile(TRACER, (4, 1))
+    plan = planner.plan(positions, references, xi, seed=2)
+    assert plan.cost == planner.cost(positions, references, xi, plan.stagnation_point)[0]
+    assert plan.cost < np.hypot(*(positions - references).T).sum()
+    assert plan.predicted_end.shape == (4, 2)
+
+
+def test_bad_problems_raise_value_error():
+    planner = airtwin.CemPlanner(FIELD)
+    positions = OCTAGON.positions
+    xi = np.tile(TRACER, (4, 1))
+    with pytest.raises(ValueError, match=r"^references: expected 4 rows \(one per object\)"):
+        planner.plan(positions, positions[:3], xi)
+    with pytest.raises(ValueError, match=r"^dynamics: expected one row"):
+        planner.plan(positions, positions, xi[:2])
+    with pytest.raises(ValueError, match=r"^search: expected line or plane, got 'circle'$"):
+        airtwin.CemPlanner(FIELD, search="circle")
+    with pytest.raises(ValueError):
+        planner.plan(np.array([[np.nan, 0.0]]), np.zeros((1, 2)), xi[:1])
