@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "common/errors.h"
@@ -196,16 +197,13 @@ CandidateResult score_candidate(const Evaluator& ev, const std::vector<size_t>& 
   return c;
 }
 
-// Adds cause `found` (as its candidate fitted it) to the selection: the nuisance again under the
-// chosen causes (unless stiction itself is one), then every chosen extension refitted jointly on
-// top of it, starting from the candidate's fit; the joint fit is kept when it fits the training
-// windows better.
-void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
-               const std::vector<size_t>& held, const CandidateResult& found,
-               const DiscrepancyOptions& o, Selection* sel) {
-  sel->chosen.push_back(found.name);
-  ModelExtensions start = sel->current;
-  set_extension_values(&start, found.name, found.params);
+// The selection's model refitted from `start`, which holds values for sel->chosen: the nuisance
+// again under them (unless stiction is one), then every chosen extension jointly by
+// Levenberg-Marquardt from those values; the joint fit is kept when it fits the training windows
+// better.
+void refit_selection(const Evaluator& ev, const std::vector<size_t>& train,
+                     const std::vector<size_t>& held, ModelExtensions start,
+                     const DiscrepancyOptions& o, Selection* sel) {
   if (std::find(sel->chosen.begin(), sel->chosen.end(), "stiction") == sel->chosen.end()) {
     sel->base.static_friction_ratio = fit_ordinary_stiction(ev, train, start);
     start.static_friction_ratio = sel->base.static_friction_ratio;
@@ -215,20 +213,148 @@ void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
     const std::vector<double> fx = fit_from_typed(name, extension_values(start, name));
     x.insert(x.end(), fx.begin(), fx.end());
   }
-  Eigen::VectorXd xv =
-      Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
-  std::vector<WindowScore> before, after;
-  ev.evaluate(start, train, &before, nullptr);
-  refine_fit(ev, train, sel->base, sel->chosen, o.max_iterations, &xv);
-  const ModelExtensions joint = apply_fit(sel->base, sel->chosen, xv.data());
-  ev.evaluate(joint, train, &after, nullptr);
-  sel->current = xv.allFinite() && sum_squares(after) < sum_squares(before) ? joint : start;
+  sel->current = start;
+  if (!x.empty()) {
+    Eigen::VectorXd xv =
+        Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    std::vector<WindowScore> before, after;
+    ev.evaluate(start, train, &before, nullptr);
+    refine_fit(ev, train, sel->base, sel->chosen, o.max_iterations, &xv);
+    const ModelExtensions joint = apply_fit(sel->base, sel->chosen, xv.data());
+    ev.evaluate(joint, train, &after, nullptr);
+    if (xv.allFinite() && sum_squares(after) < sum_squares(before)) sel->current = joint;
+  }
   sel->current_x.clear();
   for (const std::string& name : sel->chosen) {
     const std::vector<double> fx = fit_from_typed(name, extension_values(sel->current, name));
     sel->current_x.insert(sel->current_x.end(), fx.begin(), fx.end());
   }
   sel->figures = figures_of(ev, sel->current, train, held);
+}
+
+// Adds cause `found` (as its candidate fitted it) to the selection and refits it.
+void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
+               const std::vector<size_t>& held, const CandidateResult& found,
+               const DiscrepancyOptions& o, Selection* sel) {
+  sel->chosen.push_back(found.name);
+  ModelExtensions start = sel->current;
+  set_extension_values(&start, found.name, found.params);
+  refit_selection(ev, train, held, start, o, sel);
+}
+
+// The selection without its cause `name`: that extension back at its nominal values, the others
+// refitted from theirs.
+Selection without_cause(const Evaluator& ev, const std::vector<size_t>& train,
+                        const std::vector<size_t>& held, const Selection& sel,
+                        const std::string& name, const DiscrepancyOptions& o) {
+  Selection reduced = sel;
+  reduced.chosen.erase(std::find(reduced.chosen.begin(), reduced.chosen.end(), name));
+  ModelExtensions start = sel.current;
+  set_extension_values(&start, name, extension_values(ModelExtensions{}, name));
+  refit_selection(ev, train, held, start, o, &reduced);
+  return reduced;
+}
+
+// The backward check of the forward selection: each chosen cause is taken out in turn, the
+// others refitted without it, and the model with it tested against the model without it by the
+// rule it entered by (its parameter count, the same corrected level). A cause added early can be
+// made redundant by later ones (a first pick that mimicked part of two effects, which then
+// entered themselves); the cause the data support least (the highest p) of those failing is
+// dropped, and the check repeats on the rest. Returns one record per check made.
+std::vector<BackwardCheck> backward_check(const Evaluator& ev, const std::vector<size_t>& train,
+                                          const std::vector<size_t>& held,
+                                          const DecisionWindows& windows, const DecisionRule& rule,
+                                          const DiscrepancyOptions& o,
+                                          const std::function<void(const std::string&)>& say,
+                                          Selection* sel) {
+  std::vector<BackwardCheck> checks;
+  while (sel->chosen.size() >= 2) {
+    int weakest = -1;
+    std::vector<Selection> reduced;
+    const size_t first = checks.size();
+    for (const std::string& name : sel->chosen) {
+      say("backward check: refitting without " + name);
+      reduced.push_back(without_cause(ev, train, held, *sel, name, o));
+      const bool relevant = extension_size(sel->current, name) > negligible_size(name);
+      const int k = static_cast<int>(fit_box(name).lo.size());
+      const Decision d = decide(reduced.back().figures, sel->figures, k, relevant, windows, rule);
+      BackwardCheck c;
+      c.name = name;
+      c.others = reduced.back().chosen;
+      c.delta_bic = d.delta_bic;
+      c.p_value = d.p_value;
+      c.gain = d.gain;
+      c.end_mape_improves = d.end_mape_improves;
+      c.kept = d.significant;
+      checks.push_back(c);
+      const size_t i = checks.size() - 1;
+      if (!c.kept && (weakest < 0 || c.p_value > checks[static_cast<size_t>(weakest)].p_value)) {
+        weakest = static_cast<int>(i);
+      }
+    }
+    if (weakest < 0) break;
+    say("backward check: dropping " + checks[static_cast<size_t>(weakest)].name);
+    *sel = std::move(reduced[static_cast<size_t>(weakest) - first]);
+  }
+  return checks;
+}
+
+// The exchange check: a cause chosen in a round where other candidates passed too may be the one
+// that mimics another (a quadratic drag and a stronger field both raise the push where Appendix
+// D's objects start, and the first round cannot tell them apart while a delay and a slope are
+// still unmodelled). With the later causes in the model, each such rival takes the cause's
+// place, the selection is refitted from there, and the exchange is kept when it lowers the
+// held-out cost (the criterion that chose among the round's causes) and the backward check then
+// keeps every cause. `rounds` and `entered` (the round each cause entered in) say who the rivals
+// are.
+std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size_t>& train,
+                                     const std::vector<size_t>& held,
+                                     const DecisionWindows& windows, const DecisionRule& rule,
+                                     const DiscrepancyOptions& o,
+                                     const std::function<void(const std::string&)>& say,
+                                     const std::vector<std::vector<CandidateResult>>& rounds,
+                                     std::map<std::string, size_t> entered, Selection* sel,
+                                     std::vector<BackwardCheck>* backward) {
+  std::vector<Exchange> exchanges;
+  if (sel->chosen.size() < 2) return exchanges;
+  const std::vector<std::string> order = sel->chosen;
+  for (const std::string& name : order) {
+    const auto round = entered.find(name);
+    if (round == entered.end()) continue;
+    for (const CandidateResult& rival : rounds[round->second]) {
+      auto& chosen = sel->chosen;
+      if (std::find(chosen.begin(), chosen.end(), name) == chosen.end()) break;
+      if (!rival.significant ||
+          std::find(chosen.begin(), chosen.end(), rival.name) != chosen.end()) {
+        continue;
+      }
+      say("exchange check: " + rival.name + " in place of " + name);
+      Selection alt = *sel;
+      *std::find(alt.chosen.begin(), alt.chosen.end(), name) = rival.name;
+      ModelExtensions start = sel->current;
+      set_extension_values(&start, name, extension_values(ModelExtensions{}, name));
+      set_extension_values(&start, rival.name, rival.params);
+      refit_selection(ev, train, held, start, o, &alt);
+      Exchange e;
+      e.removed = name;
+      e.added = rival.name;
+      e.cost_before = sum_squares(sel->figures.held);
+      e.cost_after = sum_squares(alt.figures.held);
+      if (e.cost_after < e.cost_before) {
+        const size_t n = alt.chosen.size();
+        std::vector<BackwardCheck> checks =
+            backward_check(ev, train, held, windows, rule, o, say, &alt);
+        e.accepted = alt.chosen.size() == n;
+        if (e.accepted) {
+          *sel = std::move(alt);
+          *backward = std::move(checks);
+          entered[rival.name] = round->second;
+        }
+      }
+      exchanges.push_back(e);
+    }
+  }
+  return exchanges;
 }
 
 }  // namespace
@@ -277,6 +403,10 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   const DecisionWindows windows = all_windows(train.size(), held.size(), held_scale_m, informative);
   const ModelExtensions nominal;
   Selection sel;
+  // A provisional cause (below) and the selection it was added to.
+  Selection before_provisional, provisional_base;
+  bool provisional = false, joint_check = false;
+  std::map<std::string, size_t> entered;  // the round each cause entered in
   sel.base = nominal;
   sel.base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
   sel.current = sel.base;
@@ -307,10 +437,68 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     for (const CandidateResult& c : results) {
       if (c.significant && (best == nullptr || c.heldout_cost < best->heldout_cost)) best = &c;
     }
-    if (best == nullptr) break;
+    if (best == nullptr) {
+      if (provisional) {
+        say("no cause on top of " + sel.chosen.back() + ": it is taken out again");
+        sel = before_provisional;
+        provisional = false;
+        break;
+      }
+      // Effects can mask each other: a response delay and a stronger field cancel in the end
+      // positions until one of them is modelled, and then neither passes alone. Of the
+      // candidates whose evidence holds (delta BIC, size and the held-out test passing) while
+      // the size of their held-out gain or end MAPE does not, the one the training windows
+      // support best enters
+      // provisionally, and the next round runs on top of it; it stays only if that round
+      // finds a cause, the backward check keeps it, and the causes together beat the round's
+      // base on the held-out windows.
+      const CandidateResult* lead = nullptr;
+      for (const CandidateResult& c : results) {
+        if (c.relevant && c.delta_bic <= rule.max_delta_bic && c.p_value < rule.p_threshold &&
+            (lead == nullptr || c.delta_bic < lead->delta_bic)) {
+          lead = &c;
+        }
+      }
+      if (lead == nullptr || round + 1 >= o.max_found) break;
+      say("provisionally " + lead->name);
+      before_provisional = sel;
+      entered[lead->name] = static_cast<size_t>(round);
+      provisional = true;
+      report.provisional.push_back(lead->name);
+      add_cause(ev, train, held, *lead, o, &sel);
+      continue;
+    }
     say("found " + best->name);
+    entered[best->name] = static_cast<size_t>(round);
     add_cause(ev, train, held, *best, o, &sel);
+    if (provisional) {
+      provisional = false;
+      provisional_base = before_provisional;
+      joint_check = true;
+    }
   }
+  if (provisional) sel = before_provisional;  // the rounds ran out on top of it
+  report.backward = backward_check(ev, train, held, windows, rule, o, say, &sel);
+  if (joint_check) {
+    // The causes together against the selection before the provisional one: two spurious
+    // extensions can each make up for the other, so that each is "needed" beside the other
+    // while together they explain nothing.
+    int k = 0;
+    for (const std::string& name : sel.chosen) {
+      if (std::find(provisional_base.chosen.begin(), provisional_base.chosen.end(), name) ==
+          provisional_base.chosen.end()) {
+        k += static_cast<int>(fit_box(name).lo.size());
+      }
+    }
+    const Decision d = decide(provisional_base.figures, sel.figures, k, true, windows, rule);
+    report.joint_p_value = d.p_value;
+    if (!d.significant) {
+      say("the causes found with a provisional one do not beat the model without them");
+      sel = provisional_base;
+    }
+  }
+  report.exchanges = exchange_check(ev, train, held, windows, rule, o, say, report.rounds, entered,
+                                    &sel, &report.backward);
   report.found = sel.chosen;
   // The extended model is the causes found, without the nuisance: scored as written. (No
   // nuisance when stiction is a cause: the ratio is then that cause's parameter.)

@@ -31,11 +31,18 @@
 //      - the fitted size exceeds the extension's negligible size (models/model_extensions.h).
 //    Among the causes of a round the one with the lowest held-out cost is added.
 //    Selection is forward: the best cause is added, the remaining extensions are refitted on top
-//    of it and tested against it, and so on, up to max_found. Every fit, and the base of every
-//    round, carries an ordinary static friction (static / kinetic in [1, 1.3]) as a nuisance:
-//    eq. (8)'s start condition ignores it, and left out it bends the parameters of any cause that
-//    changes which objects start (a slope, a push, a nozzle offset). It is reported and left out
-//    of the extended model.
+//    of it and tested against it, and so on, up to max_found; then backward: each cause found is
+//    tested against the model of the others refitted without it, and one the others make
+//    redundant is dropped. Effects can mask each other (each alone fails the held-out test):
+//    when a round finds no cause, the candidate the training windows support best among those
+//    that pass every test but the size of their held-out gain enters provisionally, and stays only if the next round finds a cause on top of it, the backward
+//    check keeps it, and the causes together beat the model before it on the held-out windows.
+//    Last, each cause is exchanged for the rivals that passed in its round, the later causes in
+//    the model: a cause that only mimicked another gives way when that lowers the held-out cost.
+//    Every fit, and the base of every round, carries an ordinary static friction (static / kinetic
+//    in [1, 1.3]) as a nuisance: eq. (8)'s start condition ignores it, and left out it bends the
+//    parameters of any cause that changes which objects start (a slope, a push, a nozzle offset).
+//    It is reported and left out of the extended model.
 // 4. Extension. The causes found, with their fitted parameters, make the extended model
 //    (models/extended_model.h); its held-out end MAPE against the baseline's is the gain.
 // 5. What is left. The extended model's residual accelerations are smoothed over each group of
@@ -116,6 +123,28 @@ struct CandidateResult {
   int fit_screen_evaluations = 0;  ///< and at the screening step (the grid's ranking)
 };
 
+/// One step of the backward check of the forward selection: the model with the found causes
+/// against the same model without `name` (the others refitted without it), by the rule the cause
+/// entered by.
+struct BackwardCheck {
+  std::string name;
+  std::vector<std::string> others;  ///< the causes kept in the model without it
+  double delta_bic = 0.0;           ///< training, with it minus without it
+  double p_value = 1.0;             ///< held-out, one-sided Wilcoxon signed-rank
+  double gain = 0.0;                ///< 1 - held-out path error with it / without it
+  bool end_mape_improves = false;
+  bool kept = false;  ///< significant: the data need it beside the others
+};
+
+/// One step of the exchange check: a cause found (`removed`) replaced by a rival that passed in
+/// the same round (`added`), the selection refitted; kept when the held-out cost falls and the
+/// backward check keeps every cause.
+struct Exchange {
+  std::string removed, added;
+  double cost_before = 0.0, cost_after = 0.0;  ///< the robust cost over the held-out windows
+  bool accepted = false;
+};
+
 /// A bin of residuals (cm): the mean along the radial direction from s, across it (positive
 /// counter-clockwise) and of the error's length.
 struct ResidualBin {
@@ -179,7 +208,18 @@ struct DiscrepancyReport {
   std::vector<std::vector<CandidateResult>> rounds;  ///< every round of the forward selection
   /// Per round, the fraction of bootstrap resamples in which no candidate would be added.
   std::vector<double> none_frequency;
-  std::vector<std::string> found;  ///< in the order they were added
+  /// The backward check after the forward selection (two or more causes found): every check
+  /// made, in order; a cause not kept was dropped from `found`.
+  std::vector<BackwardCheck> backward;
+  /// The exchange check after the backward check (two or more causes found).
+  std::vector<Exchange> exchanges;
+  /// Candidates that entered provisionally (no cause in their round, but the training windows'
+  /// support): effects can mask each other until one is modelled (docs/discrepancy.md).
+  std::vector<std::string> provisional;
+  /// With a provisional entry followed by a cause: the held-out p of the causes from then on
+  /// against the selection before them (NaN when no such check was made).
+  double joint_p_value = NAN;
+  std::vector<std::string> found;  ///< in the order they were added, after the backward check
   ModelExtensions extensions;      ///< fitted jointly over the found causes
   /// Per found cause, a 95 % bootstrap interval of each typed parameter (catalogue order).
   std::map<std::string, std::vector<ParameterRange>> intervals;

@@ -1,5 +1,6 @@
 #include "models/discrepancy_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -86,6 +87,28 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   }
   j["rounds"] = rounds;
   j["none_frequency"] = r.none_frequency;
+  Json backward = Json::array();
+  for (const BackwardCheck& b : r.backward) {
+    backward.push_back({{"name", b.name},
+                        {"others", b.others},
+                        {"delta_bic", num(b.delta_bic)},
+                        {"p_value", num(b.p_value)},
+                        {"gain", num(b.gain)},
+                        {"end_mape_improves", b.end_mape_improves},
+                        {"kept", b.kept}});
+  }
+  j["backward"] = backward;
+  Json exchanges = Json::array();
+  for (const Exchange& e : r.exchanges) {
+    exchanges.push_back({{"removed", e.removed},
+                         {"added", e.added},
+                         {"heldout_cost_before", num(e.cost_before)},
+                         {"heldout_cost_after", num(e.cost_after)},
+                         {"accepted", e.accepted}});
+  }
+  j["exchanges"] = exchanges;
+  j["provisional"] = r.provisional;
+  j["joint_p_value"] = num(r.joint_p_value);
   j["baseline_end_mape_all"] = num(r.baseline_end_mape_all);
   j["baseline_path_error"] = num(r.baseline_path_error);
   j["extended_path_error"] = num(r.extended_path_error);
@@ -238,6 +261,52 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     }
     md += "\n";
   }
+  for (const std::string& p : r.provisional) {
+    md +=
+        "- " + p +
+        " entered provisionally: no candidate passed alone in its round, and the training "
+        "windows supported it best (effects can mask each other until one is modelled); " +
+        (std::find(r.found.begin(), r.found.end(), p) != r.found.end()
+             ? "the causes found on top of it kept it"
+             : "it was taken out again") +
+        (std::isfinite(r.joint_p_value) ? " (the causes together against the model before it: p " +
+                                              fixed(r.joint_p_value, 4) + ")"
+                                        : std::string()) +
+        ".\n";
+  }
+  if (!r.provisional.empty()) md += "\n";
+  if (!r.backward.empty()) {
+    md +=
+        "Backward check (each cause against the others refitted without it, by the rule it "
+        "entered by):\n\n"
+        "| cause | against | path error gain % | delta BIC | p | needed? |\n"
+        "|---|---|---|---|---|---|\n";
+    for (const BackwardCheck& b : r.backward) {
+      std::string others;
+      for (const std::string& n : b.others) others += (others.empty() ? "" : ", ") + n;
+      md += "| " + b.name + " | " + others + " | " + fixed(100.0 * b.gain, 1) + " | " +
+            fixed(b.delta_bic, 1) + " | " +
+            (b.p_value < 1e-4 ? std::string("< 1e-4") : fixed(b.p_value, 4)) + " | " +
+            (b.kept ? "yes" : "no") + " |\n";
+    }
+    std::string dropped;
+    for (const BackwardCheck& b : r.backward) {
+      const bool kept = std::find(r.found.begin(), r.found.end(), b.name) != r.found.end();
+      if (!kept && dropped.find(b.name) == std::string::npos) {
+        dropped += (dropped.empty() ? "" : ", ") + b.name;
+      }
+    }
+    md += dropped.empty()
+              ? "\nEvery cause found is needed beside the others.\n\n"
+              : "\nDropped (the one the data needed least, then the check again): " + dropped +
+                    ".\n\n";
+  }
+  for (const Exchange& e : r.exchanges) {
+    md += "- Exchange check: " + e.added + " in place of " + e.removed +
+          " (both passed in the same round): held-out cost " + fixed(e.cost_before, 3) + " -> " +
+          fixed(e.cost_after, 3) + ", " + (e.accepted ? "exchanged" : "kept " + e.removed) + ".\n";
+  }
+  if (!r.exchanges.empty()) md += "\n";
   if (!r.notes.empty()) {
     md += "Limits:\n\n";
     for (const std::string& n : r.notes) md += "- " + n + "\n";
