@@ -3,6 +3,7 @@ scenario and seed."""
 
 import csv
 import os
+import threading
 
 import numpy as np
 import pytest
@@ -91,6 +92,27 @@ def test_reset_starts_over_to_the_last_bit():
     # Settling moves the placed objects by less than ~1 mm (docs/twin.md).
     assert np.max(np.abs(start[:, :2] - airtwin.Scenario.load(OCTAGON).positions)) < 1e-3
     assert start.shape == (4, 4) and start.dtype == np.float64
+
+
+def test_twins_in_python_threads_step_as_they_do_alone():
+    """The GIL is released while a twin steps: twins in threads run side by side, each as alone."""
+    def run(seed, out):
+        twin = airtwin.Twin(OCTAGON, seed, 30.0, 20.0)
+        for _ in range(40):
+            out.append(twin.step(35.0, 25.0))
+    alone = {seed: [] for seed in (1, 2, 3)}
+    for seed, out in alone.items():
+        run(seed, out)
+    threaded = {seed: [] for seed in alone}
+    threads = [threading.Thread(target=run, args=(seed, out)) for seed, out in threaded.items()]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for seed in alone:
+        assert all(np.array_equal(a, b) for a, b in zip(alone[seed], threaded[seed]))
+        assert len(threaded[seed]) == 40
+    assert not np.array_equal(alone[1][-1], alone[2][-1])  # the seeds differ
 
 
 def test_render_shows_the_same_frame_as_the_cli(tmp_path):
