@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -28,12 +29,26 @@ NozzleOrientation orientation_deg(double pan_deg, double tilt_deg) {
   return {deg_to_rad(pan_deg), deg_to_rad(tilt_deg)};
 }
 
+// The array the velocities of n points go to: `out` when given (N x 2, C-contiguous float64,
+// writeable: written in place), else a new one.
+py::array_t<double> output_for(py::ssize_t n, const std::optional<py::array>& out) {
+  if (!out) return py::array_t<double>({n, py::ssize_t{2}});
+  const bool usable = py::isinstance<py::array_t<double>>(*out) && out->ndim() == 2 &&
+                      out->shape(0) == n && out->shape(1) == 2 &&
+                      (out->flags() & py::array::c_style) && out->writeable();
+  if (!usable) {
+    throw InputError("out: expected a writeable C-contiguous float64 array of shape (" +
+                     std::to_string(n) + ", 2), got shape " + shape_text(*out));
+  }
+  return py::reinterpret_borrow<py::array_t<double>>(*out);
+}
+
 // The model's velocities at the rows of `points`: the batch evaluation (the one `airtwin field`
 // uses) reads the input array and writes the output array in place.
 py::array_t<double> model_velocity(const AirFieldModel& model, double pan_deg, double tilt_deg,
-                                   const DoubleArray& points) {
+                                   const DoubleArray& points, const std::optional<py::array>& o) {
   const py::ssize_t n = rows_of(points, 2, "points");
-  py::array_t<double> out({n, py::ssize_t{2}});
+  py::array_t<double> out = output_for(n, o);
   Eigen::Map<Eigen::Matrix2Xd> v_W(out.mutable_data(), 2, n);
   const auto p_W = as_columns(points);
   {
@@ -70,8 +85,10 @@ void bind_field(py::module_& m) {
                   "A table CSV (tilt_deg,alpha_deg,b1,b2,b3) or a field-model JSON, as "
                   "`airtwin field --table` reads. ValueError naming the file, line and column.")
       .def("velocity", &model_velocity, py::arg("pan_deg"), py::arg("tilt_deg"), py::arg("points"),
+           py::arg("out") = py::none(),
            "Air velocity (m/s, N x 2) at floor points (m, N x 2) for the nozzle at pan_deg, "
-           "tilt_deg (degrees). ValueError for a tilt outside [0, 64.4) deg or a wrong shape.")
+           "tilt_deg (degrees), into `out` when given (an N x 2 float64 C-contiguous array, "
+           "returned). ValueError for a tilt outside [0, 64.4) deg or a wrong shape.")
       .def(
           "stagnation_point",
           [](const AirFieldModel& model, double pan_deg, double tilt_deg) {

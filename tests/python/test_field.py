@@ -91,6 +91,13 @@ def test_arrays_of_other_layouts_and_dtypes_give_the_same_figures():
     assert np.array_equal(field.velocity(15.0, 25.0, whole),
                           field.velocity(15.0, 25.0, whole.astype(float)))
     assert field.velocity(15.0, 25.0, np.zeros((0, 2))).shape == (0, 2)
+    # Into the caller's array, in place.
+    out = np.full((100, 2), np.nan)
+    assert field.velocity(15.0, 25.0, points, out=out) is out
+    assert np.array_equal(out, v)
+    for bad in (np.zeros((100, 2), dtype=np.float32), np.zeros((99, 2)), np.zeros((2, 100)).T):
+        with pytest.raises(ValueError, match=r"^out: expected a writeable C-contiguous float64"):
+            field.velocity(15.0, 25.0, points, out=bad)
 
 
 def test_bad_input_raises_value_error_with_the_cli_message(tmp_path):
