@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -99,9 +100,11 @@ void bind_field(py::module_& m) {
           py::arg("pan_deg"), py::arg("tilt_deg"),
           "The stagnation point s (m) of this model's geometry (eqs. 1-2), as (x, y).");
 
-  py::class_<CfdField>(m, "CfdField",
-                       "The jet's air from the CFD cases in data/cfd/ (docs/cfd.md), interpolated "
-                       "between tilts. Immutable.")
+  // Held by shared_ptr: twins and runs share one copy of the cases (TwinParameters::cfd_air).
+  py::class_<CfdField, std::shared_ptr<CfdField>>(
+      m, "CfdField",
+      "The jet's air from the CFD cases in data/cfd/ (docs/cfd.md), interpolated "
+      "between tilts. Immutable.")
       .def_static(
           "read_dir",
           [](const std::string& dir, int mesh_level, double inlet_diameter_m) {

@@ -7,12 +7,14 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 
 #include "common/errors.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "models/nozzle_log.h"
 #include "models/trajectory_data.h"
 #include "python/bindings.h"
@@ -30,10 +32,12 @@ struct RunResult {
   double time_limit_s = 0.0;
 };
 
-RunResult run(const std::string& scenario_path, uint64_t seed) {
+RunResult run(const std::string& scenario_path, uint64_t seed,
+              std::shared_ptr<const CfdField> cfd) {
   const Scenario scenario = read_scenario(scenario_path);
   ScenarioRunOptions options;
   options.seed = seed;
+  options.twin.cfd_air = std::move(cfd);
   py::gil_scoped_release release;
   return {run_scenario(scenario, AirFieldModel::with_default_table(), options),
           scenario.task.time_limit_s};
@@ -83,9 +87,10 @@ void bind_run(py::module_& m) {
           "decisions_csv", [](const RunResult& r) { return decisions_csv(r.result); },
           "decisions.csv's text: every decision of the controller.");
 
-  m.def("run_scenario", &run, py::arg("scenario_path"), py::arg("seed"),
+  m.def("run_scenario", &run, py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr,
         "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth, the "
-        "default field model and object dynamics), as `airtwin run SCENARIO --seed N` does.");
+        "default field model and object dynamics), as `airtwin run SCENARIO --seed N` does; the "
+        "twin's air the CFD's when `cfd` (a CfdField) is given, as `--air cfd`.");
 }
 
 }  // namespace airtwin::python

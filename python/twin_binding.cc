@@ -14,6 +14,7 @@
 
 #include "common/units.h"
 #include "models/air_field.h"
+#include "models/cfd_field.h"
 #include "python/bindings.h"
 #include "renders/frame_renderer.h"
 #include "scenes/scenario.h"
@@ -32,16 +33,18 @@ Angles degrees(const NozzleOrientation& o) {
 }
 
 // A twin of a scenario's objects, built as `airtwin run` and `airtwin render` build theirs: the
-// default field model, the analytical air, the servos at rest at the initial orientation and the
-// jet running (settled) or off. reset() builds it again, so it starts over to the last bit.
+// default field model, the analytical air or the CFD's (`--air cfd`), the servos at rest at the
+// initial orientation and the jet running (settled) or off. reset() builds it again, so it starts
+// over to the last bit.
 class PyTwin {
  public:
   PyTwin(const std::string& scenario_path, uint64_t seed, double pan_deg, double tilt_deg,
-         bool jet_on)
+         bool jet_on, std::shared_ptr<const CfdField> cfd)
       : scenario_(read_scenario(scenario_path)),
         field_(AirFieldModel::with_default_table()),
         seed_(seed),
         jet_on_(jet_on),
+        cfd_(std::move(cfd)),
         twin_(build(pan_deg, tilt_deg)) {}
 
   void reset() {
@@ -88,6 +91,7 @@ class PyTwin {
     params_ = TwinParameters{};
     params_.initial_orientation = {deg_to_rad(pan_deg), deg_to_rad(tilt_deg)};
     params_.jet_on_at_start = jet_on_;
+    params_.cfd_air = cfd_;
     Twin twin(scenario_.scene, params_, field_, seed_);
     if (jet_on_) twin.settle_jet();
     return twin;
@@ -97,6 +101,7 @@ class PyTwin {
   AirFieldModel field_;
   uint64_t seed_;
   bool jet_on_;
+  std::shared_ptr<const CfdField> cfd_;
   TwinParameters params_;
   Twin twin_;
   std::unique_ptr<FrameRenderer> renderer_;
@@ -141,11 +146,13 @@ void bind_twin(py::module_& m) {
   py::class_<PyTwin>(m, "Twin",
                      "The MuJoCo twin of a scenario's objects (docs/twin.md), with the analytical "
                      "air of the default field model, as `airtwin run` builds it.")
-      .def(py::init<const std::string&, uint64_t, double, double, bool>(), py::arg("scenario_path"),
-           py::arg("seed"), py::arg("pan_deg") = 0.0, py::arg("tilt_deg") = 0.0,
-           py::arg("jet_on") = true,
+      .def(py::init<const std::string&, uint64_t, double, double, bool,
+                    std::shared_ptr<const CfdField>>(),
+           py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
+           py::arg("tilt_deg") = 0.0, py::arg("jet_on") = true, py::arg("cfd") = nullptr,
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
-           "and the jet running (settled) unless jet_on is False.")
+           "and the jet running (settled) unless jet_on is False; the air the analytical model's, "
+           "or the CFD's when `cfd` (a CfdField) is given, as `--air cfd`.")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

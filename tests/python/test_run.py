@@ -46,6 +46,20 @@ def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
         result.trajectory("t9")
 
 
+def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--quiet", "--out",
+                                out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(str(scenario), 1, cfd=airtwin.CfdField.read_dir())
+    assert result.log_csv() == (out / "log.csv").read_text()
+    assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
+    # Another air than the model's: the same run there goes elsewhere.
+    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1).log_csv()
+
+
 def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(LINE).read().replace("kind: path", "kind: paths"))
