@@ -35,14 +35,15 @@
 //    tested against the model of the others refitted without it, and one the others make
 //    redundant is dropped. Effects can mask each other (each alone fails the held-out test):
 //    when a round finds no cause, the candidate the training windows support best among those
-//    that pass every test but the size of their held-out gain enters provisionally, and stays only if the next round finds a cause on top of it, the backward
-//    check keeps it, and the causes together beat the model before it on the held-out windows.
-//    Last, each cause is exchanged for the rivals that passed in its round, the later causes in
-//    the model: a cause that only mimicked another gives way when that lowers the held-out cost.
-//    Every fit, and the base of every round, carries an ordinary static friction (static / kinetic
-//    in [1, 1.3]) as a nuisance: eq. (8)'s start condition ignores it, and left out it bends the
-//    parameters of any cause that changes which objects start (a slope, a push, a nozzle offset).
-//    It is reported and left out of the extended model.
+//    that pass every test but the size of their held-out gain enters provisionally, and stays only
+//    if the next round finds a cause on top of it, the backward check keeps it, and the causes
+//    together beat the model before it on the held-out windows. Last, each cause is exchanged for
+//    the rivals that passed in its round, the later causes in the model: a cause that only mimicked
+//    another gives way when that lowers the held-out cost. Every fit, and the base of every round,
+//    carries an ordinary static friction (static / kinetic in [1, 1.3]) as a nuisance: eq. (8)'s
+//    start condition ignores it, and left out it bends the parameters of any cause that changes
+//    which objects start (a slope, a push, a nozzle offset). It is reported and left out of the
+//    extended model.
 // 4. Extension. The causes found, with their fitted parameters, make the extended model
 //    (models/extended_model.h); its held-out end MAPE against the baseline's is the gain.
 // 5. What is left. The extended model's residual accelerations are smoothed over each group of
