@@ -42,10 +42,10 @@ std::string read_file(const std::string& path) {
 // and returns the path of
 // a bare copy of the CSV in a fresh folder: the analysis can see nothing but the data.
 std::string collect(const std::string& name, const std::string& effects, int seed,
-                    bool lead_in = true) {
+                    bool lead_in = true, const std::string& object = "tracer") {
   const std::string dir = scratch_dir("discrepancy_" + name);
   const std::string raw = dir + "/collected.csv";
-  std::string args = "collect --object tracer --per-tilt 50 " +
+  std::string args = "collect --object " + object + " --per-tilt 50 " +
                      std::string(lead_in ? "--lead-in 0.5 " : "") + "--quiet --seed " +
                      std::to_string(seed) + " --out " + raw;
   if (!effects.empty()) args += " " + effects;
@@ -131,14 +131,14 @@ void expect_parameters(const Hidden& h, const Drawn& d, const json& r) {
 }
 
 // `seed` is the twin's (the collection); the magnitudes come from the run's test seed.
-void expect_found(const Hidden& h, int seed) {
+void expect_found(const Hidden& h, int seed, const std::string& object = "tracer") {
   RandomStream rng(testing::test_seed(), RandomPurpose::kAnalysis, static_cast<uint64_t>(seed));
   const Drawn d = draw(h, &rng);
   const std::vector<double>& truth = d.truth;
-  SCOPED_TRACE("hidden: " + d.text);
-  std::printf("hidden effect: %s (collection seed %d)\n", d.text.c_str(), seed);
-  const std::string csv = collect(h.name, "--effect " + d.text, seed);
-  const json r = analyse(csv, scratch_dir("discrepancy_" + h.name + "_out"));
+  SCOPED_TRACE("hidden: " + d.text + " (" + object + ")");
+  std::printf("hidden effect: %s (%s, collection seed %d)\n", d.text.c_str(), object.c_str(), seed);
+  const std::string csv = collect(object + "_" + h.name, "--effect " + d.text, seed, true, object);
+  const json r = analyse(csv, scratch_dir("discrepancy_" + object + "_" + h.name + "_out"));
   ASSERT_EQ(r["found"], json::array({h.name})) << r.dump(1);
   expect_parameters(h, d, r);
   const double base = r["baseline_end_mape"].get<double>();
@@ -283,6 +283,29 @@ TEST(DiscrepancyCli, FindsTwoEffectsJointly) {
 TEST(DiscrepancyCli, FindsThreeEffectsJointly) {
   if (!testing::acceptance_tier()) GTEST_SKIP() << "acceptance tier only (a 3-effect analysis)";
   expect_found_jointly({kSlope, kScale, kDelay}, 44);
+}
+
+// Cotton wads: 27 bodies each, a slower drag rate (eq. (8)'s cotton coefficients), and a
+// collection some 10 times the tracers' cost. CI: one effect, chosen by the test seed; the
+// acceptance tier: null data and three effects.
+TEST(DiscrepancyCli, FindsAnEffectOnCotton) {
+  const std::vector<Hidden> effects = {
+      {"field_scale", {{"factor", 1.2, 1.35, false}}, {0.2}},
+      {"nozzle_offset", {{"pan_deg", 5.0, 10.0, true}, {"tilt_deg", 3.0, 6.0, false}}, {0.2, 0.2}},
+      {"floor_slope",
+       {{"angle_deg", 4.0, 5.0, false}, {"direction_deg", 0.0, 360.0, false}},
+       {0.2, 0.2}}};
+  if (testing::acceptance_tier()) {
+    for (size_t i = 0; i < effects.size(); ++i) {
+      expect_found(effects[i], 51 + static_cast<int>(i), "cotton");
+    }
+    const std::string csv = collect("cotton_null", "", 54, true, "cotton");
+    const json r = analyse(csv, scratch_dir("discrepancy_cotton_null_out"));
+    EXPECT_EQ(r["found"], json::array({"none"})) << r.dump(1);
+  } else {
+    const size_t i = testing::test_seed() % effects.size();
+    expect_found(effects[i], 51 + static_cast<int>(i), "cotton");
+  }
 }
 
 TEST(DiscrepancyCli, FindsNothingWithoutAnEffect) {
