@@ -145,12 +145,22 @@ void prepare_transit(const AirFieldModel& model, const FastPredictor& fast,
 }
 
 // The command that puts the air where `aim` would with the servos' offset compensated: the
-// servos turn to command + offset (the rig takes tilts from 0 up; pan wraps).
-NozzleOrientation compensated_command(const NozzleOrientation& aim, const ModelExtensions& ext) {
+// servos turn to command + offset (the rig takes tilts from 0 up; pan wraps). The tilt is held
+// within [0, tilt_max_rad], the range the nozzle is commanded in.
+NozzleOrientation compensated_command(const NozzleOrientation& aim, const ModelExtensions& ext,
+                                      double tilt_max_rad) {
   NozzleOrientation c;
   c.pan_rad = wrap_angle(aim.pan_rad - ext.pan_offset_rad);
-  c.tilt_rad = std::max(0.0, aim.tilt_rad - ext.tilt_offset_rad);
+  c.tilt_rad = std::clamp(aim.tilt_rad - ext.tilt_offset_rad, 0.0, tilt_max_rad);
   return c;
+}
+
+// Whether the compensated command of `aim` lies within the commanded tilt range: a stagnation
+// point beyond it (a tilt offset of -3 deg asks 63 deg for the aim of 60) is one the nozzle
+// cannot produce.
+bool compensation_reachable(const NozzleOrientation& aim, const ModelExtensions& ext,
+                            double tilt_max_rad) {
+  return aim.tilt_rad - ext.tilt_offset_rad <= tilt_max_rad;
 }
 
 // The end positions under the extended model for the command `command`, issued now.
@@ -253,8 +263,10 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
   const AimResult aim = aim_at_stagnation(model.geometry(), s_W, pr.pan_hint_rad);
   if (!aim.reachable()) return params.penalty;
   if (predictors.extended != nullptr) {
-    const NozzleOrientation command =
-        compensated_command(*aim.orientation, predictors.extended->extensions);
+    const ModelExtensions& ext = predictors.extended->extensions;
+    const double tilt_max = model.geometry().tilt_max_rad;
+    if (!compensation_reachable(*aim.orientation, ext, tilt_max)) return params.penalty;
+    const NozzleOrientation command = compensated_command(*aim.orientation, ext, tilt_max);
     if (orientation != nullptr) *orientation = command;
     predict_extended(*predictors.extended, *predictors.extended_predictor, params, pr, command,
                      scratch);
@@ -501,7 +513,8 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     if (s.norm() > r_max) s *= r_max / s.norm();
     const AimResult aim = aim_at_stagnation(model_.geometry(), s, problem.pan_hint_rad);
     if (aim.reachable()) {
-      orientation = extended_ ? compensated_command(*aim.orientation, extended_->extensions)
+      orientation = extended_ ? compensated_command(*aim.orientation, extended_->extensions,
+                                                    model_.geometry().tilt_max_rad)
                               : *aim.orientation;
     }
     j = p.penalty;

@@ -164,6 +164,40 @@ TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
   EXPECT_THROW(CemPlanner(model_, params, {}, bad), InputError);
 }
 
+// A compensated command never leaves the commanded tilt range: with a tilt offset of -3 deg the
+// aim of 58.5 deg needs 61.5 deg, which the servos refuse (the run stopped on it: "nozzle
+// command: tilt 62.8 deg is outside [0, 60]"), so its stagnation point is out of reach; the
+// aim of 55 deg (58 commanded) is not.
+TEST_F(CemPlannerTest, ExtendedPlanningNeverCommandsBeyondTheTiltRange) {
+  ExtendedPlanning ext;
+  ext.extensions.tilt_offset_rad = deg_to_rad(-3.0);
+  const CemParameters params = CemParameters::line_defaults();
+  const CemPlanner planner(model_, params, {}, ext);
+  const double tilt_max = model_.geometry().tilt_max_rad;
+  const Eigen::Vector2d far =
+      stagnation_point(model_.geometry(), {deg_to_rad(10.0), deg_to_rad(58.5)});
+  const Eigen::Vector2d near =
+      stagnation_point(model_.geometry(), {deg_to_rad(10.0), deg_to_rad(55.0)});
+  PlanningProblem pr = problem();
+  EXPECT_EQ(planner.cost(pr, far), params.penalty);
+  EXPECT_LT(planner.cost(pr, near), params.penalty);
+  // Objects and their references far out, where the best pushes come from the range's edge: the
+  // plan's command stays within it.
+  std::vector<Eigen::Vector2d> positions, references;
+  for (size_t j = 0; j < p_.size(); ++j) {
+    positions.push_back(0.7 * far + Eigen::Vector2d(0.05 * static_cast<double>(j), 0.0));
+    references.push_back(1.02 * far);
+  }
+  pr.positions_W = positions;
+  pr.references_W = references;
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    RandomStream rng(seed, RandomPurpose::kController, 0);
+    const PlanResult plan = planner.plan(pr, rng);
+    EXPECT_LE(plan.orientation.tilt_rad, tilt_max) << "seed " << seed;
+    EXPECT_GE(plan.orientation.tilt_rad, 0.0) << "seed " << seed;
+  }
+}
+
 TEST_F(CemPlannerTest, PenaltyNearAnObjectOrOutOfReach) {
   const CemParameters params = CemParameters::line_defaults();
   const CemPlanner planner(model_, params);
