@@ -494,6 +494,19 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     report.joint_p_value = d.p_value;
     if (!d.significant) {
       say("the causes found with a provisional one do not beat the model without them");
+      std::string taken_out;
+      for (const std::string& name : sel.chosen) {
+        if (std::find(provisional_base.chosen.begin(), provisional_base.chosen.end(), name) ==
+            provisional_base.chosen.end()) {
+          taken_out += (taken_out.empty() ? "" : ", ") + name;
+        }
+      }
+      report.notes.push_back(taken_out +
+                             " together did not beat the model without them on the held-out "
+                             "windows (p " +
+                             fixed(d.p_value, 4) + "): taken out again.");
+      // The backward check's records are of the selection taken out.
+      report.backward.clear();
       sel = provisional_base;
     }
   }
