@@ -1,21 +1,26 @@
 #!/usr/bin/python3
-"""The jet's start-up: a transient axisymmetric RANS of the rig's jet switched on over a still floor
-(docs/cfd.md, "The jet's start-up"). It measures what the steady campaign cannot: how long the free
-jet takes to reach the floor, how fast the wall jet's front runs out along it, and when the floor
-field is steady (the paper's Appendix B: "approximately 8 seconds").
+"""The jet's start-up and stop: transient axisymmetric RANS of the rig's jet switched on over a still
+floor, then switched off again (docs/cfd.md, "The jet's start-up" and "The jet's stop"). They
+measure what the steady campaign cannot: how long the free jet takes to reach the floor, how fast
+the wall jet's front runs out along it, when the floor field is steady (the paper's Appendix B:
+"approximately 8 seconds"), and how fast the floor's air dies once the jet stops feeding it.
 
 Subcommands (used by startup.sh):
-  write   DIR          the case: wedge blockMesh, 0/ fields, PIMPLE dictionaries, probes
+  write   DIR          the start-up case: wedge blockMesh, 0/ fields, PIMPLE dictionaries, probes
+  write-stop SRC DIR   the stop case from the start-up's final fields in SRC (their inlet closing
+                       over VALVE_S at END_TIME); its first time directory must be made ascii first
   progress DIR         one line: simulated time, time step, wall clock per simulated second
-  convert DIR OUTDIR   probes -> OUTDIR/startup_tilt00_d40.json and _floor.csv, _axis.csv
+  convert DIR OUTDIR   probes -> OUTDIR/<case>.json and _floor.csv, _axis.csv (either case)
   summary DATADIR      the figures of docs/cfd.md from the converted files (and the steady case
-                       tilt00.0_mesh1_d20 beside them): transit, wall-jet front, settling
+                       tilt00.0_mesh1_d20 beside them): transit, wall-jet front, settling, decay
 Debian's /usr/bin/python3 with numpy only.
 """
 import json
 import math
 import os
 import re
+import shutil
+import subprocess
 import sys
 
 import numpy as np
@@ -25,12 +30,14 @@ from cfdcase import (CMU, EPS_AMB, H, INTENSITY, K_AMB, K_KIN, LSCALE, NU, git_c
 from cfdcase import SCHEMES as SCHEMES_STEADY
 
 NAME = "startup_tilt00_d40"
+NAME_STOP = "stop_tilt00_d40"
 D = 0.040                 # inlet diameter (m): the same momentum flux as the rig's nozzle, see below
 WEDGE_DEG = 5.0           # the axisymmetric wedge's opening
 R_MAX = 2.0               # domain radius (m)
 Z_TOP = 2.0               # domain top (m)
 H_CORE = 0.004            # cell size across the inlet and at the exit (m): D / 10
 END_TIME = 10.0           # simulated seconds; the paper's CFD was steady at ~8 s
+STOP_SPAN = 3.0           # simulated seconds after the valve closes in the stop case
 MAX_CO = 2.0              # Courant number the adaptive time step keeps to
 VALVE_S = 0.02            # the inlet speed ramps from 0 to its value over this time (a valve opening)
 PROBE_DT = 0.02           # probe sampling interval (s)
@@ -249,13 +256,70 @@ def cmd_write(case_dir):
                "    \"(inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
                + walls % ("nutkWallFunction", "        value uniform 0;\n") + wedge + "}\n")
     gen = ("scripts/cfd/startup.py", "scripts/cfd/startup.sh")
-    meta = {"case": NAME, "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
+    meta = {"case": NAME, "kind": "start", "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
             "cells": cells, "inlet_d_m": D, "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,
             "momentum_flux_kinematic_m4_s2": K_KIN, "wedge_deg": WEDGE_DEG, "end_time_s": END_TIME,
             "max_courant": MAX_CO, "valve_opening_s": VALVE_S}
     with open(os.path.join(case_dir, "case.json"), "w") as fh:
         json.dump(meta, fh, indent=1)
     print("%s: %d cells, inlet %.1f m/s" % (NAME, cells, u))
+
+
+def close_table(text, value_at, end):
+    """Replaces the inlet's uniformValue table in an ascii field file by the valve's closing: the
+    full value until END_TIME, value_at(1 - f) at END_TIME + f VALVE_S, f = 0..1."""
+    n = 10
+    rows = ["(0 %s)" % value_at(1.0)] + ["(%.6g %s)" % (end + VALVE_S * i / n, value_at(1.0 - i / n))
+                                        for i in range(n + 1)]
+    pat = re.compile(r"(inlet\s*\{[^}]*?uniformValue\s+table)\s*\d*\s*\((?:[^;]*)\);", re.S)
+    new, count = pat.subn(lambda m: "%s (%s);" % (m.group(1), " ".join(rows)), text, count=1)
+    if count != 1:
+        sys.exit("startup: no inlet uniformValue table to close in a field file")
+    return new
+
+
+def cmd_write_stop(src_dir, case_dir):
+    """The stop case: the start-up's fields at END_TIME, the inlet closing like a valve over
+    VALVE_S from then on (speed to 0, its k and epsilon back to the ambient's), run STOP_SPAN on."""
+    start = os.path.join(src_dir, "%g" % END_TIME)
+    if not os.path.isdir(start):
+        sys.exit("startup: %s: no fields at t = %g s (run the start-up case to its end first)" %
+                 (src_dir, END_TIME))
+    os.makedirs(case_dir, exist_ok=True)
+    for sub in ("constant", "system"):
+        shutil.copytree(os.path.join(src_dir, sub), os.path.join(case_dir, sub), dirs_exist_ok=True)
+    shutil.copytree(start, os.path.join(case_dir, "%g" % END_TIME), dirs_exist_ok=True)
+    probes = probes_entry("floor", ["U", "k", "epsilon"], floor_points())
+    probes += probes_entry("axis", ["U"], axis_points())
+    control = CONTROL % {"end": END_TIME + STOP_SPAN, "co": MAX_CO, "field_dt": FIELD_DT, "probes": probes}
+    # the start-up wrote binary fields; make the first one ascii to edit its inlet's tables
+    write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
+               control.replace("writeFormat     binary;", "writeFormat     ascii;"))
+    conv = subprocess.run(["nice", "-n", "19", "foamFormatConvert", "-time", "%g" % END_TIME],
+                          cwd=case_dir, capture_output=True, text=True)
+    if conv.returncode != 0:
+        sys.exit("startup: foamFormatConvert failed in %s: %s" % (case_dir, conv.stderr.strip()[-300:]))
+    write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict", control)
+    u, k_in, eps_in = inlet_state()
+    edits = (("U", lambda f: "(0 0 %.9g)" % (-f * u)),
+             ("k", lambda f: "%.9g" % max(K_AMB, k_in * f ** 2)),
+             ("epsilon", lambda f: "%.9g" % max(EPS_AMB, eps_in * f ** 3)))
+    for fld, value_at in edits:
+        path = os.path.join(case_dir, "%g" % END_TIME, fld)
+        text = open(path).read()
+        with open(path, "w") as fh:
+            fh.write(close_table(text, value_at, END_TIME))
+    gen = ("scripts/cfd/startup.py", "scripts/cfd/startup.sh")
+    meta = json.load(open(os.path.join(src_dir, "case.json")))
+    meta.update({"case": NAME_STOP, "kind": "stop", "started_from": NAME,
+                 "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
+                 "stop_time_s": END_TIME, "end_time_s": END_TIME + STOP_SPAN,
+                 "valve_closing_s": VALVE_S})
+    meta.pop("valve_opening_s", None)
+    with open(os.path.join(case_dir, "case.json"), "w") as fh:
+        json.dump(meta, fh, indent=1)
+    print("%s: from %s at %g s, the inlet closing over %g s, to %g s" %
+          (NAME_STOP, NAME, END_TIME, VALVE_S, END_TIME + STOP_SPAN))
 
 
 TIME_RE = re.compile(r"^Time = ([0-9.eE+-]+)", re.M)
@@ -274,7 +338,8 @@ def cmd_progress(case_dir):
     if not times:
         print("not started")
         return
-    parts = ["t %.3f s of %g" % (times[-1], END_TIME)]
+    end = json.load(open(os.path.join(case_dir, "case.json"))).get("end_time_s", END_TIME)
+    parts = ["t %.3f s of %g" % (times[-1], end)]
     if dts:
         parts.append("dt %.2e s" % float(dts[-1]))
     if len(times) > 200 and len(clocks) > 200:
@@ -328,45 +393,72 @@ def settle_time(t, y, final, tol):
                                                                               else None)
 
 
+def decay_figures(t, y, stop):
+    """From the value when the valve starts closing: the times after it at which y falls to half
+    and to a tenth of it (None if it never does within the run)."""
+    initial = float(y[np.argmin(np.abs(t - stop))])
+    fall = np.sign(initial) * y
+    after = t >= stop - 1e-9
+    entry = {"initial_m_s": initial}
+    for key, frac in (("half_s", 0.5), ("tenth_s", 0.1)):
+        c = first_crossing(t[after], -fall[after], -frac * abs(initial))
+        entry[key] = None if c is None else c - stop
+    return entry
+
+
 def cmd_convert(case_dir, out_dir):
     meta = json.load(open(os.path.join(case_dir, "case.json")))
+    name = meta["case"]
+    stop = meta["stop_time_s"] if meta.get("kind") == "stop" else None
+    end = meta.get("end_time_s", END_TIME)
     fl = floor_points()
     t, U = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "U", len(fl))
     tk, K = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "k", len(fl))
     ta, UA = read_probe_series(os.path.join(case_dir, "postProcessing/axis"), "U", len(axis_points()))
     if t.size != tk.size:
         sys.exit("startup: U and k probes disagree in their times")
-    if t[-1] < END_TIME - 1e-6:
-        sys.exit("startup: the run reached %g s of %g; finish it before converting" % (t[-1], END_TIME))
+    if t[-1] < end - 1e-6:
+        sys.exit("startup: the run reached %g s of %g; finish it before converting" % (t[-1], end))
     ur = U[:, :, 0]                     # radial (the wedge's centre plane is y = 0)
     nr = len(FLOOR_R)
-    # the last second's mean is the steady state the start-up tends to
-    last = t >= END_TIME - 1.0
-    figures = {"floor": [], "axis": []}
-    for hi, z in enumerate(FLOOR_Z):
-        for ri, r in enumerate(FLOOR_R):
-            y = ur[:, hi * nr + ri]
-            final = float(y[last].mean())
-            entry = {"height_m": z, "r_m": float(r), "final_ur_m_s": final,
-                     "final_std_m_s": float(y[last].std())}
-            if abs(final) >= 0.3:
-                entry["arrival_s"] = first_crossing(t, np.sign(final) * y, 0.5 * abs(final))
-                entry["within_5pct_s"] = settle_time(t, y, final, 0.05)
-                entry["within_10pct_s"] = settle_time(t, y, final, 0.10)
-            figures["floor"].append(entry)
     uz = -UA[:, :, 2]
-    for zi, z in enumerate(AXIS_Z):
-        final = float(uz[ta >= END_TIME - 1.0, zi].mean())
-        figures["axis"].append({"z_m": float(z), "final_uz_down_m_s": final,
-                                "arrival_s": first_crossing(ta, uz[:, zi], 0.5 * final)})
+    figures = {"floor": [], "axis": []}
+    if stop is None:
+        # the last second's mean is the steady state the start-up tends to
+        last = t >= end - 1.0
+        for hi, z in enumerate(FLOOR_Z):
+            for ri, r in enumerate(FLOOR_R):
+                y = ur[:, hi * nr + ri]
+                final = float(y[last].mean())
+                entry = {"height_m": z, "r_m": float(r), "final_ur_m_s": final,
+                         "final_std_m_s": float(y[last].std())}
+                if abs(final) >= 0.3:
+                    entry["arrival_s"] = first_crossing(t, np.sign(final) * y, 0.5 * abs(final))
+                    entry["within_5pct_s"] = settle_time(t, y, final, 0.05)
+                    entry["within_10pct_s"] = settle_time(t, y, final, 0.10)
+                figures["floor"].append(entry)
+        for zi, z in enumerate(AXIS_Z):
+            final = float(uz[ta >= end - 1.0, zi].mean())
+            figures["axis"].append({"z_m": float(z), "final_uz_down_m_s": final,
+                                    "arrival_s": first_crossing(ta, uz[:, zi], 0.5 * final)})
+    else:
+        for hi, z in enumerate(FLOOR_Z):
+            for ri, r in enumerate(FLOOR_R):
+                entry = {"height_m": z, "r_m": float(r)}
+                entry.update(decay_figures(t, ur[:, hi * nr + ri], stop))
+                figures["floor"].append(entry)
+        for zi, z in enumerate(AXIS_Z):
+            entry = {"z_m": float(z)}
+            entry.update(decay_figures(ta, uz[:, zi], stop))
+            figures["axis"].append(entry)
     os.makedirs(out_dir, exist_ok=True)
     meta["probe_interval_s"] = PROBE_DT
     meta["figures"] = figures
-    with open(os.path.join(out_dir, NAME + ".json"), "w") as fh:
+    with open(os.path.join(out_dir, name + ".json"), "w") as fh:
         json.dump(meta, fh, indent=1)
     # the floor's time series at every 0.05 s (2.5x the probe interval: the CSV stays small)
     keep = np.nonzero(np.isclose((t / 0.05) - np.round(t / 0.05), 0.0, atol=1e-6))[0]
-    with open(os.path.join(out_dir, NAME + "_floor.csv"), "w") as fh:
+    with open(os.path.join(out_dir, name + "_floor.csv"), "w") as fh:
         fh.write("t,height_m,r_m,ur,uz,k\n")
         for i in keep:
             for hi, z in enumerate(FLOOR_Z):
@@ -374,12 +466,12 @@ def cmd_convert(case_dir, out_dir):
                     j = hi * nr + ri
                     fh.write("%.2f,%.4f,%.3f,%.4f,%.4f,%.4f\n" % (t[i], z, r, U[i, j, 0], U[i, j, 2], K[i, j, 0]))
     keep_a = np.nonzero(np.isclose((ta / 0.05) - np.round(ta / 0.05), 0.0, atol=1e-6))[0]
-    with open(os.path.join(out_dir, NAME + "_axis.csv"), "w") as fh:
+    with open(os.path.join(out_dir, name + "_axis.csv"), "w") as fh:
         fh.write("t,z_m,uz_down\n")
         for i in keep_a:
             for zi, z in enumerate(AXIS_Z):
                 fh.write("%.2f,%.3f,%.4f\n" % (ta[i], z, uz[i, zi]))
-    print("%s: %d samples to %.2f s" % (NAME, t.size, t[-1]))
+    print("%s: %d samples to %.2f s" % (name, t.size, t[-1]))
 
 
 def cmd_summary(data_dir):
@@ -430,6 +522,8 @@ def cmd_summary(data_dir):
 def main(argv):
     if len(argv) == 3 and argv[1] == "write":
         cmd_write(argv[2])
+    elif len(argv) == 4 and argv[1] == "write-stop":
+        cmd_write_stop(argv[2], argv[3])
     elif len(argv) == 3 and argv[1] == "progress":
         cmd_progress(argv[2])
     elif len(argv) == 4 and argv[1] == "convert":

@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# The jet's start-up (docs/cfd.md, "The jet's start-up"): a transient axisymmetric RANS of the rig's
-# jet switched on over a still floor, written by scripts/cfd/startup.py, solved by pimpleFoam and
-# converted into data/cfd/startup_tilt00_d40.{json,_floor.csv,_axis.csv}.
+# The jet's start-up and stop (docs/cfd.md, "The jet's start-up", "The jet's stop"): transient
+# axisymmetric RANS of the rig's jet switched on over a still floor, and (--stop) switched off again
+# from the start-up's final fields; written by scripts/cfd/startup.py, solved by pimpleFoam and
+# converted into data/cfd/<case>.{json,_floor.csv,_axis.csv} (startup_tilt00_d40, stop_tilt00_d40).
 # Resumable: an interrupted run restarts from its last written time (every 0.5 s simulated); a
-# finished case (its data/cfd/ JSON exists) is skipped.
-# Usage: bash scripts/cfd/startup.sh [--work DIR] [--commit]
-#   --work DIR   raw case (default: cfd-work/ at the repository top; not versioned)
-#   --commit     git-commit the converted files in data/cfd/ (only those paths)
+# finished case (its data/cfd/ JSON exists) is skipped. The stop case needs the start-up's raw
+# fields in the work directory (the start-up is run again, ~2 h, when they are missing).
+# Usage: bash scripts/cfd/startup.sh [--stop] [--work DIR] [--commit]
+#   --stop       the stop case too (after the start-up)
+#   --work DIR   raw cases (default: cfd-work/ at the repository top; not versioned)
+#   --commit     git-commit each case's converted files in data/cfd/ (only those paths)
 set -uo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -14,14 +17,15 @@ top="$(cd "$here/../.." && pwd)"
 work="$top/cfd-work"
 out="$top/data/cfd"
 commit=0
+stop=0
 py=/usr/bin/python3
-name=startup_tilt00_d40
 
 while [ $# -gt 0 ]; do
   case "$1" in
     --work) work="$2"; shift 2 ;;
     --commit) commit=1; shift ;;
-    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    --stop) stop=1; shift ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     *) echo "startup.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -37,62 +41,79 @@ if ! "$py" -c 'import numpy' >/dev/null 2>&1; then
   echo "startup.sh: $py with numpy not found; run bash scripts/setup.sh --cfd" >&2
   exit 1
 fi
-if [ -f "$out/$name.json" ]; then
-  echo "startup.sh: $name done before (${out#"$top"/}/$name.json); nothing to do"
-  exit 0
-fi
-
-case_dir="$work/$name"
 nice_cmd=(nice -n 19)
-if [ ! -f "$case_dir/.meshed" ]; then
-  rm -rf "$case_dir"
-  mkdir -p "$case_dir"
-  echo "startup.sh: $("$py" "$here/startup.py" write "$case_dir")" || exit 1
-  for tool in blockMesh checkMesh; do
-    if ! (cd "$case_dir" && "${nice_cmd[@]}" "$tool" > "log.$tool" 2>&1); then
-      echo "startup.sh: $tool failed, see $case_dir/log.$tool" >&2
+
+# run_case NAME: writes (and for the start-up meshes), solves, converts and commits one case.
+run_case() {
+  local name="$1"
+  local case_dir="$work/$name"
+  if [ ! -f "$case_dir/.meshed" ]; then
+    rm -rf "$case_dir"
+    mkdir -p "$case_dir"
+    if [ "$name" = stop_tilt00_d40 ]; then
+      echo "startup.sh: $("$py" "$here/startup.py" write-stop "$work/startup_tilt00_d40" "$case_dir")" || exit 1
+    else
+      echo "startup.sh: $("$py" "$here/startup.py" write "$case_dir")" || exit 1
+      for tool in blockMesh checkMesh; do
+        if ! (cd "$case_dir" && "${nice_cmd[@]}" "$tool" > "log.$tool" 2>&1); then
+          echo "startup.sh: $tool failed, see $case_dir/log.$tool" >&2
+          exit 1
+        fi
+      done
+    fi
+    touch "$case_dir/.meshed"
+  fi
+
+  if [ ! -f "$case_dir/.solved" ]; then
+    # each (re)start keeps its own log; pimpleFoam resumes from the latest written time
+    n=$(find "$case_dir" -maxdepth 1 -name 'log.pimpleFoam*' | wc -l)
+    log="log.pimpleFoam.$n"
+    t0=$(date +%s)
+    (cd "$case_dir" && "${nice_cmd[@]}" pimpleFoam > "$log" 2>&1) &
+    pid=$!
+    while kill -0 "$pid" 2>/dev/null; do
+      sleep 60
+      kill -0 "$pid" 2>/dev/null && echo "startup.sh: $("$py" "$here/startup.py" progress "$case_dir")"
+    done
+    if ! wait "$pid"; then
+      echo "startup.sh: pimpleFoam failed, see $case_dir/$log" >&2
+      tail -5 "$case_dir/$log" >&2
       exit 1
     fi
-  done
-  touch "$case_dir/.meshed"
-fi
+    echo "$(( $(date +%s) - t0 ))" >> "$case_dir/wall_time_s"
+    touch "$case_dir/.solved"
+  fi
 
-if [ ! -f "$case_dir/.solved" ]; then
-  # each (re)start keeps its own log; pimpleFoam resumes from the latest written time
-  n=$(find "$case_dir" -maxdepth 1 -name 'log.pimpleFoam*' | wc -l)
-  log="log.pimpleFoam.$n"
-  t0=$(date +%s)
-  (cd "$case_dir" && "${nice_cmd[@]}" pimpleFoam > "$log" 2>&1) &
-  pid=$!
-  while kill -0 "$pid" 2>/dev/null; do
-    sleep 60
-    kill -0 "$pid" 2>/dev/null && echo "startup.sh: $("$py" "$here/startup.py" progress "$case_dir")"
-  done
-  if ! wait "$pid"; then
-    echo "startup.sh: pimpleFoam failed, see $case_dir/$log" >&2
-    tail -5 "$case_dir/$log" >&2
+  echo "startup.sh: $("$py" "$here/startup.py" convert "$case_dir" "$out")" || exit 1
+  if [ "$commit" = 1 ]; then
+    files=()
+    for f in "$out/$name".json "$out/$name"_*.csv; do
+      files+=("${f#"$top"/}")
+    done
+    for attempt in 1 2 3 4 5 6 7 8 9 10; do
+      if [ ! -f "$top/.git/index.lock" ] && (cd "$top" && git add -- "${files[@]}" &&
+          git commit -q -m "CFD data: $name" \
+            -m "A transient of the rig's jet from scripts/cfd/startup.sh (docs/cfd.md)." \
+            -- "${files[@]}"); then
+        echo "startup.sh: committed $(cd "$top" && git rev-parse --short HEAD)"
+        return 0
+      fi
+      sleep 3
+    done
+    echo "startup.sh: could not commit $name (index locked?)" >&2
     exit 1
   fi
-  echo "$(( $(date +%s) - t0 ))" >> "$case_dir/wall_time_s"
-  touch "$case_dir/.solved"
-fi
+}
 
-echo "startup.sh: $("$py" "$here/startup.py" convert "$case_dir" "$out")" || exit 1
-if [ "$commit" = 1 ]; then
-  files=()
-  for f in "$out/$name".json "$out/$name"_*.csv; do
-    files+=("${f#"$top"/}")
-  done
-  for attempt in 1 2 3 4 5 6 7 8 9 10; do
-    if [ ! -f "$top/.git/index.lock" ] && (cd "$top" && git add -- "${files[@]}" &&
-        git commit -q -m "CFD data: $name" \
-          -m "The jet's start-up over a still floor from scripts/cfd/startup.sh (docs/cfd.md)." \
-          -- "${files[@]}"); then
-      echo "startup.sh: committed $(cd "$top" && git rev-parse --short HEAD)"
-      exit 0
-    fi
-    sleep 3
-  done
-  echo "startup.sh: could not commit $name (index locked?)" >&2
-  exit 1
+if [ -f "$out/startup_tilt00_d40.json" ] && { [ "$stop" = 0 ] || [ -f "$out/stop_tilt00_d40.json" ]; }; then
+  echo "startup.sh: done before (${out#"$top"/}/); nothing to do"
+  exit 0
 fi
+if [ ! -f "$out/startup_tilt00_d40.json" ] ||
+   { [ "$stop" = 1 ] && [ ! -d "$work/startup_tilt00_d40/10" ]; }; then
+  [ -f "$out/startup_tilt00_d40.json" ] && echo "startup.sh: the start-up's raw fields are gone; running it again"
+  rm -f "$work/startup_tilt00_d40/.solved"
+  run_case startup_tilt00_d40
+fi
+[ "$stop" = 1 ] && run_case stop_tilt00_d40
+exit 0
