@@ -306,7 +306,10 @@ CfdField CfdField::read_dir(const std::string& dir, int mesh_level, double inlet
     throw InputError(dir + ": no CFD case of mesh level " + std::to_string(mesh_level) +
                      " and inlet " + std::to_string(inlet_diameter_m) + " m (docs/cfd.md)");
   }
-  return CfdField(std::move(cases));
+  CfdField field(std::move(cases));
+  const fs::path startup = fs::path(dir) / "startup_tilt00_d40.json";
+  if (fs::exists(startup, ec)) field.set_startup(CfdStartup::read(startup.string()));
+  return field;
 }
 
 CfdField::Bracket CfdField::bracket(double tilt_rad) const {

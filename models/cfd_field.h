@@ -17,10 +17,12 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "models/cfd_startup.h"
 #include "models/nozzle_geometry.h"
 
 namespace airtwin {
@@ -130,8 +132,9 @@ class CfdOrientedField {
 class CfdField {
  public:
   /// Reads every case in `dir` of the given mesh level and inlet diameter, the held-out tilt left
-  /// out (it is for testing the interpolation). InputError when none is found, two share a tilt, or
-  /// a case cannot be read.
+  /// out (it is for testing the interpolation), and the jet's start-up (startup_tilt00_d40.json)
+  /// when the folder has it. InputError when no case is found, two share a tilt, or a case or the
+  /// start-up cannot be read.
   static CfdField read_dir(const std::string& dir, int mesh_level = 1,
                            double inlet_diameter_m = 0.02);
   /// From cases already read (any order; at least one).
@@ -140,6 +143,10 @@ class CfdField {
   double min_tilt_rad() const { return cases_.front().tilt_rad(); }
   double max_tilt_rad() const { return cases_.back().tilt_rad(); }
   const std::vector<CfdCase>& cases() const { return cases_; }
+  /// The jet's start-up (models/cfd_startup.h) if the cases came with it, else null.
+  const CfdStartup* startup() const { return startup_ ? &*startup_ : nullptr; }
+  /// Gives the cases the start-up's timings.
+  void set_startup(CfdStartup startup) { startup_ = std::move(startup); }
 
   /// The field of orientation `o`. InputError when the tilt is outside [min_tilt_rad,
   /// max_tilt_rad].
@@ -161,6 +168,7 @@ class CfdField {
 
   std::vector<CfdCase> cases_;  // by tilt
   NozzleGeometry geometry_;
+  std::optional<CfdStartup> startup_;
 };
 
 }  // namespace airtwin

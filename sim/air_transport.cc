@@ -20,8 +20,8 @@ void AirTransportParameters::validate() const {
 }
 
 AirTransport::AirTransport(const AirTransportParameters& params, double timestep_s,
-                           const NozzleOrientation& initial)
-    : params_(params), timestep_s_(timestep_s) {
+                           const NozzleOrientation& initial, const CfdStartup* startup)
+    : params_(params), startup_(params.cfd_timing ? startup : nullptr), timestep_s_(timestep_s) {
   params_.validate();
   AIRTWIN_DEMAND(std::isfinite(timestep_s) && timestep_s > 0.0);
   capacity_ = enabled() ? static_cast<int>(std::ceil(params_.max_lag_s / timestep_s_)) + 1 : 1;
@@ -40,7 +40,8 @@ void AirTransport::push(const NozzleOrientation& effective) {
 
 int AirTransport::lag_steps(double r_m) const {
   if (!enabled() || !(r_m > 0.0)) return 0;
-  const double steps = r_m / (params_.front_speed_mps * timestep_s_);
+  const double lag_s = startup_ ? startup_->wall_jet_lag_s(r_m) : r_m / params_.front_speed_mps;
+  const double steps = lag_s / timestep_s_;
   return static_cast<int>(std::min<double>(std::llround(steps), capacity_ - 1));
 }
 

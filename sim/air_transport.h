@@ -11,6 +11,11 @@
 // wall jet, the downburst model, likewise moves out at about half the jet's speed), and the
 // wall jet near the floor carries 2-3.4 m/s here (docs/cfd.md): U_front = 1.5 m/s by default.
 //
+// In the CFD's air the lag is the CFD's own when its cases come with the jet's start-up
+// (models/cfd_startup.h): the wall jet's arrival at r from s less the free jet's transit, 0.015 s
+// at 0.11 m, 0.18 s at 0.41 m, 1.05 s at 1.01 m (the front slows with its air), instead of
+// r / U_front (0.07, 0.27, 0.67 s).
+//
 // This matters while the nozzle turns (up to 7 rad/s, 400 deg/s): a rigid pattern would sweep
 // the strong downstream wall jet 0.6 m long across the floor at up to 4 m/s at its tip, faster
 // than its own air, and fling objects that the moving air never reaches. With the lag, a point
@@ -25,6 +30,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "models/cfd_startup.h"
 #include "models/nozzle_geometry.h"
 
 namespace airtwin {
@@ -33,19 +39,25 @@ struct AirTransportParameters {
   /// U_front (m/s), the speed at which a new wall jet's front spreads from s; 0 switches the lag
   /// off (the floor pattern then swings rigidly with the effective orientation).
   double front_speed_mps = 1.5;
-  /// Longest lag kept (s): points farther than U_front * max_lag_s from s get this lag.
+  /// Longest lag kept (s): points whose lag would be longer get this one.
   double max_lag_s = 2.0;
+  /// In the CFD's air, when its cases come with the jet's start-up (CfdField::startup): the
+  /// wall jet's lag from it instead of front_speed_mps, and the free jet's transit from it
+  /// instead of NozzleActuatorParameters::field_delay_s (sim/twin.h). front_speed_mps 0 still
+  /// switches the lag off.
+  bool cfd_timing = true;
   /// No lag: the floor pattern swings rigidly with the effective orientation.
-  static AirTransportParameters rigid() { return {0.0, 0.0}; }
+  static AirTransportParameters rigid() { return {0.0, 0.0, false}; }
   /// Throws InputError naming the field unless both are finite and in range.
   void validate() const;
 };
 
 class AirTransport {
  public:
-  /// `initial` fills the history: the air has been at rest there.
+  /// `initial` fills the history: the air has been at rest there. `startup` (may be null; must
+  /// outlive the transport) gives the lag when params.cfd_timing is set.
   AirTransport(const AirTransportParameters& params, double timestep_s,
-               const NozzleOrientation& initial);
+               const NozzleOrientation& initial, const CfdStartup* startup = nullptr);
 
   /// Records this step's effective orientation (call once per physics step, before the lags).
   void push(const NozzleOrientation& effective);
@@ -62,6 +74,7 @@ class AirTransport {
 
  private:
   AirTransportParameters params_;
+  const CfdStartup* startup_;  // the lag's source when set, else r / front_speed_mps
   double timestep_s_;
   int capacity_;  // orientations kept: max_lag_s / dt + 1
   std::vector<NozzleOrientation> ring_;

@@ -131,7 +131,7 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
       params->air.extra_push_length_m = v[1];
       return;
     case EffectId::kResponseDelay:
-      params->nozzle.field_delay_s += v[0];
+      params->nozzle.response_delay_s += v[0];
       return;
     case EffectId::kFlowDeflection:
       params->air.flow_deflection_rad = deg_to_rad(v[0]);

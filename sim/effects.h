@@ -9,7 +9,8 @@
 //                      near s added to the default push (sim/air_forces.h),
 //                      a(r) = J^2 f^2 strength sqrt(2e) (r / length) exp(-(r / length)^2)
 //                      (a wall-jet impingement zone as wide as the free jet at the floor).
-//   response_delay     nozzle.field_delay_s += tau_s (on top of the 0.2 s transit delay).
+//   response_delay     nozzle.response_delay_s += tau_s (on top of the free jet's transit,
+//                      nozzle.field_delay_s).
 //   flow_deflection    air.flow_deflection_rad: the mean air turned from radial, same speed.
 //   quadratic_drag     air.quadratic_drag_per_m: C |u_rel| u_rel (1/2 rho C_d A / m of a tracer
 //                      is ~0.6 1/m).

@@ -26,9 +26,12 @@ void NozzleActuatorParameters::validate() const {
   positive(max_acceleration_radps2, "max_acceleration_radps2");
   positive(jet_rise_time_constant_s, "jet_rise_time_constant_s");
   positive(jet_fall_time_constant_s, "jet_fall_time_constant_s");
-  if (!(std::isfinite(field_delay_s) && field_delay_s >= 0 && field_delay_s <= 10)) {
-    throw InputError("nozzle parameters: field_delay_s must be in [0, 10] s, got " +
-                     std::to_string(field_delay_s));
+  for (const auto& [v, field] : {std::pair{field_delay_s, "field_delay_s"},
+                                 std::pair{response_delay_s, "response_delay_s"}}) {
+    if (!(std::isfinite(v) && v >= 0 && v <= 10)) {
+      throw InputError(std::string("nozzle parameters: ") + field + " must be in [0, 10] s, got " +
+                       std::to_string(v));
+    }
   }
   if (!(pan_min_rad < pan_max_rad && std::isfinite(pan_min_rad) && std::isfinite(pan_max_rad))) {
     throw InputError("nozzle parameters: pan range must be finite and ordered");
@@ -77,7 +80,8 @@ NozzleActuator::NozzleActuator(const NozzleActuatorParameters& params,
   command(initial);
   actual_ = servo_target_;
   // A delay of n steps needs n + 1 slots: the oldest is read after the newest is written.
-  const size_t n = static_cast<size_t>(std::lround(params_.field_delay_s / dt_));
+  const size_t n =
+      static_cast<size_t>(std::lround((params_.field_delay_s + params_.response_delay_s) / dt_));
   history_.assign(n + 1, actual_);
   head_ = 0;
   rise_factor_ = -std::expm1(-dt_ / params_.jet_rise_time_constant_s);

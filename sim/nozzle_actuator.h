@@ -16,7 +16,9 @@
 // A free round jet (kinematic momentum K ~ 0.86 m^4/s^2, shared/notes/physics.md) decays as
 // U(x) = 6 sqrt(4K/pi) / x, so it covers h = 1.43 m in x^2 / (2 * 6.3 m^2/s) = 0.16 s; the wall
 // jet then needs ~0.05-0.1 s to re-form around s. Default: a pure delay of 0.2 s (the paper's
-// earlier time-delay model is not public; this is a parameter). It is quantised to whole steps.
+// earlier time-delay model is not public; this is a parameter). The CFD of the jet's start-up
+// measures 0.27 s (docs/cfd.md), which the twin uses in the CFD's air. It is quantised to whole
+// steps, with any response delay added.
 //
 // Servo calibration bias (the nozzle_offset effect, sim/effects.h; zero by default): the servos
 // go to command + offset, clamped to the ranges; commanded() stays the command, as a recording
@@ -33,9 +35,13 @@
 namespace airtwin {
 
 struct NozzleActuatorParameters {
-  double max_speed_radps = 7.0;                  ///< servo speed limit (rad/s), both axes
-  double max_acceleration_radps2 = 30.0;         ///< servo acceleration limit (rad/s^2)
-  double field_delay_s = 0.2;                    ///< actual -> effective orientation delay (s)
+  double max_speed_radps = 7.0;           ///< servo speed limit (rad/s), both axes
+  double max_acceleration_radps2 = 30.0;  ///< servo acceleration limit (rad/s^2)
+  /// The free jet's transit: actual -> effective orientation delay (s). In the CFD's air the
+  /// twin takes the CFD's (sim/twin.h, AirTransportParameters::cfd_timing).
+  double field_delay_s = 0.2;
+  /// A further delay of the response on top of the transit (s): the response_delay effect.
+  double response_delay_s = 0.0;
   double jet_rise_time_constant_s = 1.73717793;  ///< tau_on (s): 8 s / ln(100)
   double jet_fall_time_constant_s = 0.3;         ///< tau_off (s)
   double pan_min_rad = -3.14159265358979323846;

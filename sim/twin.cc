@@ -8,19 +8,33 @@
 
 namespace airtwin {
 
+namespace {
+
+// The parameters a twin runs with: in the CFD's air with its start-up's timings, the free jet's
+// transit is the CFD's (AirTransportParameters::cfd_timing).
+TwinParameters with_cfd_timing(TwinParameters p) {
+  if (p.cfd_air && p.air_transport.cfd_timing && p.cfd_air->startup()) {
+    p.nozzle.field_delay_s = p.cfd_air->startup()->transit_s();
+  }
+  return p;
+}
+
+}  // namespace
+
 struct Twin::Impl {
-  Impl(const SceneSpec& spec, const TwinParameters& p, const AirFieldModel& fm, uint64_t seed)
-      : params(p),
+  Impl(const SceneSpec& spec, const TwinParameters& given, const AirFieldModel& fm, uint64_t seed)
+      : params(with_cfd_timing(given)),
         field_model(fm),
-        scene(p.scene_file.empty() ? build_scene(spec, p.scene, seed)
-                                   : load_scene(p.scene_file, spec, p.scene)),
+        scene(params.scene_file.empty() ? build_scene(spec, params.scene, seed)
+                                        : load_scene(params.scene_file, spec, params.scene)),
         data(make_data(scene.model.get())),
-        actuator(p.nozzle, p.initial_orientation, p.scene.timestep_s),
+        actuator(params.nozzle, params.initial_orientation, params.scene.timestep_s),
         field(field_model.at(actuator.effective())),
-        air(p.air, p.scene, scene.objects, seed, p.scene.timestep_s),
-        transport(p.cfd_air ? p.air_transport : AirTransportParameters::rigid(), p.scene.timestep_s,
-                  actuator.effective()) {
-    if (p.cfd_air) cfd_field = p.cfd_air->at(actuator.effective());
+        air(params.air, params.scene, scene.objects, seed, params.scene.timestep_s),
+        transport(params.cfd_air ? params.air_transport : AirTransportParameters::rigid(),
+                  params.scene.timestep_s, actuator.effective(),
+                  params.cfd_air ? params.cfd_air->startup() : nullptr) {
+    if (params.cfd_air) cfd_field = params.cfd_air->at(actuator.effective());
     // At most two lookups per object a step (sim/air_transport.h): no reallocation, so the
     // pointers handed to the air forces stay valid through the step.
     lagged_cfd.reserve(2 * scene.objects.size());

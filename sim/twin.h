@@ -39,8 +39,10 @@ struct TwinParameters {
   AirForceParameters air;
   /// The wall jet's transport lag in the CFD's air: each object feels the orientation whose air
   /// has reached it (sim/air_transport.h); front_speed_mps 0 makes the floor pattern swing
-  /// rigidly. The analytical air (cfd_air null) mirrors the controller's model, which takes the
-  /// new field everywhere at once after the delay: there the pattern always swings rigidly.
+  /// rigidly. With cfd_timing and a CFD that has the jet's start-up, the lag and the free jet's
+  /// transit (replacing nozzle.field_delay_s) are the CFD's. The analytical air (cfd_air null)
+  /// mirrors the controller's model, which takes the new field everywhere at once after the
+  /// delay: there the pattern always swings rigidly and nozzle.field_delay_s holds.
   AirTransportParameters air_transport;
   /// The air: the jet's CFD (shared, immutable; its tilt range must cover the nozzle's), or null
   /// for the analytical field of the field model the twin is built with.

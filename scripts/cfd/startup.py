@@ -519,6 +519,28 @@ def cmd_summary(data_dir):
                   "MAPE %.1f %%, worst %.1f %%" % (100 * np.mean(errs), 100 * max(errs)))
 
 
+def stop_summary(data_dir):
+    """The stop case's figures beside the start-up's arrivals (docs/cfd.md, "The jet's stop")."""
+    path = os.path.join(data_dir, NAME_STOP + ".json")
+    if not os.path.exists(path):
+        return
+    stop = json.load(open(path))
+    start = json.load(open(os.path.join(data_dir, NAME + ".json")))
+    arrival = {(e["height_m"], round(e["r_m"], 3)): e.get("arrival_s") for e in start["figures"]["floor"]}
+    print("jet stopped at %g s: the floor's radial air at 15 mm after the valve closes" % stop["stop_time_s"])
+    print("  r, before, half, tenth (s after the stop) | start-up arrival (half) at the same r")
+    for e in stop["figures"]["floor"]:
+        if e["height_m"] != 0.015 or round(e["r_m"] * 100) % 10 != 1 or e["r_m"] < 0.1:
+            continue
+        fmt = lambda v: "%.2f s" % v if v is not None else "beyond the run"
+        a = arrival.get((0.015, round(e["r_m"], 3)))
+        print("  %.2f m  %.2f m/s  %s  %s | %s" % (e["r_m"], e["initial_m_s"], fmt(e["half_s"]),
+                                                 fmt(e["tenth_s"]), fmt(a)))
+    low = min(stop["figures"]["axis"], key=lambda e: e["z_m"])
+    print("free jet at z %.2f m: half in %.2f s after the stop, a tenth in %.2f s" %
+          (low["z_m"], low["half_s"], low["tenth_s"]))
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "write":
         cmd_write(argv[2])
@@ -530,6 +552,7 @@ def main(argv):
         cmd_convert(argv[2], argv[3])
     elif len(argv) == 3 and argv[1] == "summary":
         cmd_summary(argv[2])
+        stop_summary(argv[2])
     else:
         sys.exit(__doc__)
 

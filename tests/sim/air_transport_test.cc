@@ -1,5 +1,6 @@
-// The wall jet's transport lag: the history and its lags against their definition, and in the
-// twin a far object meeting a re-aimed jet's air r / U_front later than a rigid pattern brings it.
+// The wall jet's transport lag: the history and its lags against their definition (r / U_front,
+// or the CFD start-up's lag), and in the twin a far object meeting a re-aimed jet's air that much
+// later than a rigid pattern brings it.
 
 #include "sim/air_transport.h"
 
@@ -31,6 +32,19 @@ TEST(AirTransport, LagIsDistanceOverFrontSpeedInWholeStepsWithinTheSpan) {
   // Beyond U_front * max_lag_s = 1.5 m: the span, 400 steps.
   EXPECT_EQ(t.lag_steps(10.0), 400);
   EXPECT_EQ(AirTransport(AirTransportParameters::rigid(), kDt, {0, 0}).lag_steps(1.0), 0);
+}
+
+TEST(AirTransport, WithTheCfdStartUpTheLagIsItsWallJetLag) {
+  const CfdStartup startup(0.25, {0.1, 0.5}, {0.3, 0.75});  // lag 0.05 s at 0.1 m, 0.5 s at 0.5 m
+  AirTransportParameters p;
+  p.max_lag_s = 1.0;
+  const AirTransport t(p, kDt, {0.1, 0.2}, &startup);
+  EXPECT_EQ(t.lag_steps(0.1), 20);   // 0.05 s
+  EXPECT_EQ(t.lag_steps(0.3), 110);  // 0.275 s: linear between
+  EXPECT_EQ(t.lag_steps(0.05), 10);  // from 0 at s
+  EXPECT_EQ(t.lag_steps(2.0), 400);  // past the span
+  p.cfd_timing = false;              // r / U_front again: 0.3 m / 1.5 m/s = 0.2 s
+  EXPECT_EQ(AirTransport(p, kDt, {0.1, 0.2}, &startup).lag_steps(0.3), 80);
 }
 
 TEST(AirTransport, HistoryReturnsWhatWasPushedAndSaysWhenItIsSteady) {
@@ -68,8 +82,9 @@ TEST(AirTransport, BadParametersNameTheField) {
 
 // A tracer 0.4 m downstream of the new s, upstream of the old one (1.4 m away, weak air): after
 // the re-aim it starts moving when the new wall jet reaches it. The lag delays that by about
-// r / U_front beside the rigid pattern, and twice as long at half the front speed.
-double onset_s(double front_speed_mps) {
+// r / U_front beside the rigid pattern, and twice as long at half the front speed; with the CFD's
+// timings (cfd_timing), by the CFD start-up's lag at r, after the CFD's transit.
+double onset_s(double front_speed_mps, bool cfd_timing) {
   static const auto cfd =
       std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
   static const AirFieldModel model = AirFieldModel::with_default_table();
@@ -78,6 +93,7 @@ double onset_s(double front_speed_mps) {
   p.scene.tracer.static_friction_ratio = 1.0;
   p.cfd_air = cfd;
   p.air_transport.front_speed_mps = front_speed_mps;
+  p.air_transport.cfd_timing = cfd_timing;
   p.initial_orientation = {kPi, deg_to_rad(22.5)};
   p.jet_on_at_start = true;
   SceneSpec spec;
@@ -95,7 +111,8 @@ double onset_s(double front_speed_mps) {
 }
 
 TEST(AirTransport, InCfdAirAFarObjectMeetsTheNewAirItsTransportTimeLater) {
-  const double rigid = onset_s(0.0), lag_15 = onset_s(1.5), lag_30 = onset_s(3.0);
+  const double rigid = onset_s(0.0, false), lag_15 = onset_s(1.5, false),
+               lag_30 = onset_s(3.0, false);
   std::printf("onset after the re-aim: rigid %.3f s, U_front 3 m/s %.3f s, 1.5 m/s %.3f s\n", rigid,
               lag_30, lag_15);
   ASSERT_LT(rigid, 3.0);
@@ -103,6 +120,30 @@ TEST(AirTransport, InCfdAirAFarObjectMeetsTheNewAirItsTransportTimeLater) {
   // crossing while the air builds up, so +-30 %.
   EXPECT_NEAR(lag_15 - rigid, 0.4 / 1.5, 0.3 * 0.4 / 1.5);
   EXPECT_NEAR(lag_30 - rigid, 0.4 / 3.0, 0.3 * 0.4 / 3.0);
+}
+
+TEST(AirTransport, TheCfdStartUpGivesTheTransitAndTheLag) {
+  const CfdField cfd = CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd");
+  ASSERT_NE(cfd.startup(), nullptr);
+  const CfdStartup& s = *cfd.startup();
+  const double rigid = onset_s(0.0, false), rigid_cfd = onset_s(0.0, true),
+               lag_cfd = onset_s(1.5, true);
+  std::printf(
+      "onset after the re-aim: rigid %.3f s, rigid with the CFD's transit %.3f s, the "
+      "CFD's lag %.3f s\n",
+      rigid, rigid_cfd, lag_cfd);
+  // The transit replaces the 0.2 s delay: the same air, that much later (+- two 2 ms steps).
+  EXPECT_NEAR(rigid_cfd - rigid, s.transit_s() - NozzleActuatorParameters{}.field_delay_s, 0.004);
+  // The wall jet's lag at the tracer's distance from the new s, r = 0.397 m. Every s the sweep
+  // passes (pan 180 -> 0 deg at tilt 22.5 deg: a circle of radius 0.503 m about the origin) is at
+  // least that far from the tracer, so the onset comes at least lag(r) later than the rigid one
+  // (less two steps of rounding); it may come later by what the orientations still turning add
+  // (the U_front cases above: +0.03 and +0.05 s beyond r / U_front), so at most 0.1 s more.
+  const double lag = s.wall_jet_lag_s(0.397);
+  EXPECT_GE(lag_cfd - rigid_cfd, lag - 0.004);
+  EXPECT_LE(lag_cfd - rigid_cfd, lag + 0.1);
+  // U_front no longer counts.
+  EXPECT_EQ(onset_s(3.0, true), lag_cfd);
 }
 
 }  // namespace

@@ -126,7 +126,8 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
       &p);
   EXPECT_EQ(p.air.extra_push_mps2, 6.0);
   EXPECT_EQ(p.air.extra_push_length_m, 0.1);
-  EXPECT_DOUBLE_EQ(p.nozzle.field_delay_s, nominal.nozzle.field_delay_s + 0.5);
+  EXPECT_DOUBLE_EQ(p.nozzle.response_delay_s, nominal.nozzle.response_delay_s + 0.5);
+  EXPECT_DOUBLE_EQ(p.nozzle.field_delay_s, nominal.nozzle.field_delay_s);
   EXPECT_DOUBLE_EQ(p.air.flow_deflection_rad, deg_to_rad(-30));
   EXPECT_EQ(p.air.quadratic_drag_per_m, 0.8);
   EXPECT_DOUBLE_EQ(p.scene.floor_slope_rad, deg_to_rad(3));
