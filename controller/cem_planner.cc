@@ -219,7 +219,7 @@ void check_problem(const PlanningProblem& pr) {
 
 // eq. (10)'s sum over the predicted ends, with the problem's weights and reaches (see the top of
 // cem_planner.h).
-double end_cost(const PlanningProblem& pr, const std::vector<Eigen::Vector2d>& end_W) {
+double end_cost(const PlanningProblem& pr, std::span<const Eigen::Vector2d> end_W) {
   double sum = 0.0;
   for (size_t j = 0; j < end_W.size(); ++j) {
     const double w = pr.weights.empty() ? 1.0 : pr.weights[j];
@@ -246,6 +246,22 @@ struct Predictors {
   const ExtendedPredictor* extended_predictor = nullptr;
 };
 
+// eq. (10)'s penalty: s not finite, an object starting within delta_min of s (where motion is
+// most stochastic), or a stagnation point the nozzle cannot produce (no better than one too close
+// to an object). Otherwise the orientation that puts s there.
+std::optional<NozzleOrientation> unpenalised_aim(const AirFieldModel& model,
+                                                 const CemParameters& params,
+                                                 const PlanningProblem& pr,
+                                                 const Eigen::Vector2d& s_W) {
+  if (!s_W.allFinite()) return std::nullopt;
+  for (const Eigen::Vector2d& p_W : pr.positions_W) {
+    if ((p_W - s_W).norm() < params.min_distance_m) return std::nullopt;
+  }
+  const AimResult aim = aim_at_stagnation(model.geometry(), s_W, pr.pan_hint_rad);
+  if (!aim.reachable()) return std::nullopt;
+  return *aim.orientation;
+}
+
 // The cost of candidate s, eq. (10): the penalty when an object starts within delta_min of s or
 // the nozzle cannot produce s, else end_cost() of the predicted ends (in scratch.end_W).
 double evaluate(const AirFieldModel& model, const Predictors& predictors,
@@ -253,31 +269,24 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
                 Scratch& scratch, NozzleOrientation* orientation, bool* feasible) {
   *feasible = false;
   const size_t m = pr.positions_W.size();
-  if (!s_W.allFinite()) return params.penalty;
-  // The penalty of eq. (10): an object starting within delta_min of s, where motion is most
-  // stochastic.
-  for (size_t j = 0; j < m; ++j) {
-    if ((pr.positions_W[j] - s_W).norm() < params.min_distance_m) return params.penalty;
-  }
-  // A stagnation point the nozzle cannot produce is no better than one too close to an object.
-  const AimResult aim = aim_at_stagnation(model.geometry(), s_W, pr.pan_hint_rad);
-  if (!aim.reachable()) return params.penalty;
+  const std::optional<NozzleOrientation> aim = unpenalised_aim(model, params, pr, s_W);
+  if (!aim) return params.penalty;
   if (predictors.extended != nullptr) {
     const ModelExtensions& ext = predictors.extended->extensions;
     const double tilt_max = model.geometry().tilt_max_rad;
-    if (!compensation_reachable(*aim.orientation, ext, tilt_max)) return params.penalty;
-    const NozzleOrientation command = compensated_command(*aim.orientation, ext, tilt_max);
+    if (!compensation_reachable(*aim, ext, tilt_max)) return params.penalty;
+    const NozzleOrientation command = compensated_command(*aim, ext, tilt_max);
     if (orientation != nullptr) *orientation = command;
     predict_extended(*predictors.extended, *predictors.extended_predictor, params, pr, command,
                      scratch);
     *feasible = true;
     return end_cost(pr, scratch.end_W);
   }
-  if (orientation != nullptr) *orientation = *aim.orientation;
+  if (orientation != nullptr) *orientation = *aim;
   if (params.predict_transition && pr.nozzle_now) {
     if (!scratch.transit_ready) prepare_transit(model, predictors.fast, params, pr, scratch);
     const double sweep_s =
-        transition_schedule(params.transition, *pr.nozzle_now, *aim.orientation, scratch.schedule);
+        transition_schedule(params.transition, *pr.nozzle_now, *aim, scratch.schedule);
     PredictionOptions options;
     options.horizon_s = sweep_s + params.horizon_s;
     // No move, no transit to wait for: Delta T under the air now, from the decision on.
@@ -290,7 +299,7 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     return end_cost(pr, scratch.end_W);
   }
   // The fast predictor follows each object's ray: the field's rays are all it needs.
-  const OrientedRays field = model.rays_at(*aim.orientation);
+  const OrientedRays field = model.rays_at(*aim);
   // eq. (9): each object moves radially away from s; its present speed along that ray carries
   // over (eq. 8's state), a speed toward s does not.
   scratch.start.resize(m);
@@ -334,6 +343,17 @@ double CemPlanner::cost(const PlanningProblem& problem, const Eigen::Vector2d& s
     }
   }
   return j;
+}
+
+double CemPlanner::outcome_cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
+                                std::span<const Eigen::Vector2d> end_W) const {
+  check_problem(problem);
+  if (end_W.size() != problem.positions_W.size()) {
+    throw InputError("controller: " + std::to_string(end_W.size()) + " end positions for " +
+                     std::to_string(problem.positions_W.size()) + " objects");
+  }
+  if (!unpenalised_aim(model_, params_, problem, s_W)) return params_.penalty;
+  return end_cost(problem, end_W);
 }
 
 PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) const {

@@ -167,6 +167,12 @@ class CemPlanner {
   double cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
               std::vector<Eigen::Vector2d>* end_W = nullptr) const;
 
+  /// eq. (10) for s on the positions the objects reached (m), not predicted ones: J_P when an
+  /// object started within delta_min of s or the nozzle cannot put s there, else the weighted
+  /// distances to the references (and the reach terms). Throws InputError when sizes differ.
+  double outcome_cost(const PlanningProblem& problem, const Eigen::Vector2d& s_W,
+                      std::span<const Eigen::Vector2d> end_W) const;
+
   const CemParameters& parameters() const { return params_; }
   const std::optional<ExtendedPlanning>& extended() const { return extended_; }
 

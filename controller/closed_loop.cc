@@ -59,35 +59,47 @@ bool Controller::observe(const Observation& observation) {
   return progress_.update(p, types, observation.t_s, observation.out_of_view);
 }
 
-DecisionRecord Controller::decide(double pan_hint_rad) {
+PlanningProblem DecisionInputs::problem(double pan_hint_rad) const {
+  PlanningProblem problem;
+  problem.positions_W = positions_W;
+  problem.velocities_W = velocities_W;
+  problem.dynamics = dynamics;
+  problem.references_W = references_W;
+  problem.weights = shaping.weights;
+  problem.reach_m = shaping.reach_m;
+  problem.pan_hint_rad = pan_hint_rad;
+  return problem;
+}
+
+DecisionInputs Controller::inputs() const {
   if (known_.empty()) throw InputError("controller: no objects observed");
-  std::vector<Eigen::Vector2d> p, v;
-  std::vector<std::string> types;
-  std::vector<ObjectDynamics> xi;
-  DecisionRecord record;
+  DecisionInputs in;
   for (const auto& [id, o] : known_) {
     const auto it = dynamics_.find(o.type);
     if (it == dynamics_.end()) {
       throw InputError("controller: no dynamics for object type '" + o.type + "' (object '" + id +
                        "')");
     }
-    p.push_back(o.p_W);
-    v.push_back(o.v_W);
-    types.push_back(o.type);
-    xi.push_back(it->second);
-    record.objects.push_back(o);
-    record.seen.push_back(last_seen_s_.at(id) == last_t_s_ ? 1 : 0);
+    in.ids.push_back(id);
+    in.types.push_back(o.type);
+    in.positions_W.push_back(o.p_W);
+    in.velocities_W.push_back(o.v_W);
+    in.dynamics.push_back(it->second);
+    in.seen.push_back(last_seen_s_.at(id) == last_t_s_ ? 1 : 0);
   }
-  const std::vector<Eigen::Vector2d> r = progress_.references(types);
-  PlanningProblem problem;
-  problem.positions_W = p;
-  problem.velocities_W = v;
-  problem.dynamics = xi;
-  problem.references_W = r;
-  const CostShaping shaping = progress_.cost_shaping(p, types);
-  problem.weights = shaping.weights;
-  problem.reach_m = shaping.reach_m;
-  problem.pan_hint_rad = pan_hint_rad;
+  in.references_W = progress_.references(in.types);
+  in.shaping = progress_.cost_shaping(in.positions_W, in.types);
+  return in;
+}
+
+DecisionRecord Controller::decide(double pan_hint_rad) {
+  const DecisionInputs in = inputs();
+  const std::vector<Eigen::Vector2d>& p = in.positions_W;
+  const std::vector<Eigen::Vector2d>& r = in.references_W;
+  DecisionRecord record;
+  for (const std::string& id : in.ids) record.objects.push_back(known_.at(id));
+  record.seen = in.seen;
+  PlanningProblem problem = in.problem(pan_hint_rad);
   problem.nozzle_now = last_command_;
 
   const auto start = std::chrono::steady_clock::now();
@@ -111,35 +123,61 @@ DecisionRecord Controller::decide(double pan_hint_rad) {
   return record;
 }
 
-LoopResult run_closed_loop(Rig& rig, Controller& controller, const LoopOptions& options,
-                           const std::function<void(const DecisionRecord&)>& on_decision) {
+ClosedLoop::ClosedLoop(Rig& rig, Controller& controller, const LoopOptions& options)
+    : rig_(rig), controller_(controller), options_(options) {
   if (!(std::isfinite(options.hold_s) && options.hold_s > 0.0)) {
     throw InputError("loop: the hold time must be a positive number of seconds");
   }
   if (!(std::isfinite(options.time_limit_s) && options.time_limit_s > 0.0)) {
     throw InputError("loop: the time limit must be a positive number of seconds");
   }
-  LoopResult result;
-  double pan = 0.0;
-  while (true) {
-    const Observation observation = rig.observe();
-    result.objects_seen_at_end = static_cast<int>(observation.objects.size());
-    if (controller.observe(observation)) {
-      result.success = true;
-      result.completion_time_s = controller.progress().done_time_s();
-      break;
-    }
-    if (rig.time() >= options.time_limit_s) break;
-    DecisionRecord record = controller.decide(pan);
-    rig.aim(record.plan.orientation);
-    pan = record.plan.orientation.pan_rad;
-    if (on_decision) on_decision(record);
-    result.decisions.push_back(std::move(record));
-    // Never wait past the time limit: the last observation falls on it.
-    rig.wait(std::min(options.hold_s, options.time_limit_s - rig.time()));
+  observe();
+}
+
+void ClosedLoop::observe() {
+  observation_ = rig_.observe();
+  result_.objects_seen_at_end = static_cast<int>(observation_.objects.size());
+  if (controller_.observe(observation_)) {
+    result_.success = true;
+    result_.completion_time_s = controller_.progress().done_time_s();
   }
-  result.end_time_s = rig.time();
-  return result;
+  time_up_ = rig_.time() >= options_.time_limit_s;
+}
+
+const DecisionRecord& ClosedLoop::command(DecisionRecord record) {
+  command(record.plan.orientation);
+  result_.decisions.push_back(std::move(record));
+  return result_.decisions.back();
+}
+
+void ClosedLoop::command(const NozzleOrientation& target) {
+  AIRTWIN_DEMAND(!finished());
+  rig_.aim(target);
+  controller_.assume_nozzle(target);
+  pan_rad_ = target.pan_rad;
+}
+
+void ClosedLoop::hold() {
+  AIRTWIN_DEMAND(!finished());
+  // Never wait past the time limit: the last observation falls on it.
+  rig_.wait(std::min(options_.hold_s, options_.time_limit_s - rig_.time()));
+  observe();
+}
+
+const LoopResult& ClosedLoop::result() {
+  result_.end_time_s = rig_.time();
+  return result_;
+}
+
+LoopResult run_closed_loop(Rig& rig, Controller& controller, const LoopOptions& options,
+                           const std::function<void(const DecisionRecord&)>& on_decision) {
+  ClosedLoop loop(rig, controller, options);
+  while (!loop.finished()) {
+    const DecisionRecord& record = loop.command(loop.decide());
+    if (on_decision) on_decision(record);
+    loop.hold();
+  }
+  return loop.result();
 }
 
 }  // namespace airtwin

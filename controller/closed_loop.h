@@ -39,6 +39,18 @@ struct DecisionRecord {
   std::vector<char> seen;
 };
 
+/// What a decision plans with: the objects known now (in id order), their references and
+/// eq. (10)'s shaping (controller/task.h). problem() views it for the planner.
+struct DecisionInputs {
+  std::vector<std::string> ids, types;
+  std::vector<Eigen::Vector2d> positions_W, velocities_W, references_W;  ///< m, m/s, m
+  std::vector<ObjectDynamics> dynamics;
+  std::vector<char> seen;  ///< in the last observation (else remembered, at rest)
+  CostShaping shaping;
+  /// A view of these vectors (valid while this lives) with the pan hint (rad).
+  PlanningProblem problem(double pan_hint_rad) const;
+};
+
 class Controller {
  public:
   /// `dynamics_by_type`: eq. (8) coefficients per object type (an observed type without an entry
@@ -56,6 +68,12 @@ class Controller {
   void assume_nozzle(const NozzleOrientation& command) { last_command_ = command; }
   /// The next decision from what is known (call after observe() returned false).
   DecisionRecord decide(double pan_hint_rad);
+  /// What the next decision plans with. Throws InputError when no object is known or one's type
+  /// has no dynamics.
+  DecisionInputs inputs() const;
+  const CemPlanner& planner() const { return planner_; }
+  /// The command the nozzle rests at (the last decision's or assume_nozzle's), if known.
+  const std::optional<NozzleOrientation>& nozzle_command() const { return last_command_; }
 
   const TaskProgress& progress() const { return progress_; }
   /// The objects known now, by id (last seen position, velocity, type).
@@ -88,6 +106,47 @@ struct LoopResult {
   double end_time_s = 0.0;                  ///< rig time when the loop stopped
   int objects_seen_at_end = 0;              ///< objects in the last observation
   std::vector<DecisionRecord> decisions;
+};
+
+/// The loop one turn at a time, for a caller that chooses some commands itself (the Python
+/// environment): observe and update the task (at construction and after each hold()), then a
+/// command, then hold(). run_closed_loop below is this with every command the controller's.
+class ClosedLoop {
+ public:
+  /// `rig` and `controller` must outlive the loop. Throws InputError for a hold time or a time
+  /// limit that is not a positive number of seconds. Takes the first observation.
+  ClosedLoop(Rig& rig, Controller& controller, const LoopOptions& options);
+
+  /// The task is done, or rig time has reached the time limit: no more commands.
+  bool finished() const { return result_.success || time_up_; }
+  /// The controller's next decision from what is known (its random stream advances).
+  DecisionRecord decide() { return controller_.decide(pan_rad_); }
+  /// Aims the rig at the decision's orientation and keeps the record (result().decisions).
+  const DecisionRecord& command(DecisionRecord record);
+  /// Aims the rig at an orientation the controller did not choose (rad); the controller is told
+  /// the nozzle's command (extended planning predicts from it) and the next decision's pan hint
+  /// is its pan. No record is kept.
+  void command(const NozzleOrientation& target);
+  /// Lets the air act for the hold time (never past the time limit), observes, updates the task.
+  void hold();
+
+  /// The pan (rad) the next decision's aim starts from: the last command's (0 before any).
+  double pan_hint_rad() const { return pan_rad_; }
+  /// The last observation.
+  const Observation& observation() const { return observation_; }
+  /// The loop so far (end_time_s: rig time now).
+  const LoopResult& result();
+
+ private:
+  void observe();
+
+  Rig& rig_;
+  Controller& controller_;
+  LoopOptions options_;
+  Observation observation_;
+  LoopResult result_;
+  bool time_up_ = false;
+  double pan_rad_ = 0.0;
 };
 
 /// Runs the loop on `rig` until the task is done or time runs out. `on_decision` (optional) is

@@ -9,133 +9,16 @@
 
 #include "common/errors.h"
 #include "common/units.h"
-#include "rigs/twin_rig.h"
+#include "runs/scenario_episode.h"
 
 namespace airtwin {
 
-namespace {
-
-// How long an object the perception misses stays in the plan (controller/closed_loop.h).
-constexpr double kForgetAfter = 3.0;
-
-// The observation a rig would give before anything moved: the scenario's start positions.
-Observation start_observation(const Scenario& scenario) {
-  Observation o;
-  for (const ObjectSpec& spec : scenario.scene.objects) {
-    ObservedObject obj;
-    obj.id = spec.id;
-    obj.type = spec.type;
-    obj.p_W = spec.p_W;
-    o.objects.push_back(obj);
-  }
-  return o;
-}
-
-}  // namespace
-
 ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& field_model,
                                const ScenarioRunOptions& options) {
-  ScenarioRunResult result;
-  result.scenario = scenario.name;
-  result.seed = options.seed;
-  result.n_objects = static_cast<int>(scenario.scene.objects.size());
-  if (scenario.scene.objects.empty()) {
-    throw InputError(scenario.source + ": the scenario has no objects");
-  }
-  // The field the controller plans with: the twin's, or the one the options give.
-  const AirFieldModel& planning = options.planning_field ? *options.planning_field : field_model;
-
-  // The nozzle starts where the controller would first aim, the jet running: the rig is ready
-  // when the run begins (a plan from the start positions, with its own random stream).
-  TwinParameters params = options.twin;
-  {
-    Controller first(planning, scenario.controller, scenario.task, options.dynamics,
-                     options.seed ^ 0x5EEDF00Dull, kForgetAfter, options.planning_extensions);
-    first.observe(start_observation(scenario));
-    params.initial_orientation = first.decide(0.0).plan.orientation;
-  }
-  params.jet_on_at_start = true;
-  Twin twin(scenario.scene, params, field_model, options.seed);
-  twin.settle_jet();
-
-  TruthPerception truth;
-  std::unique_ptr<VisionPerception> vision;
-  Perception* perception = &truth;
-  if (options.vision_camera) {
-    VisionPerceptionOptions vo = options.vision;
-    vo.seed = options.seed;
-    vision = std::make_unique<VisionPerception>(*options.vision_camera, vo);
-    perception = vision.get();
-    result.perception = "vision";
-  }
-  TwinRig rig(twin, *perception);
-  RunMetrics metrics(scenario.task);
-  Controller controller(planning, scenario.controller, scenario.task, options.dynamics,
-                        options.seed, kForgetAfter, options.planning_extensions);
-  controller.assume_nozzle(params.initial_orientation);
-
-  // The log: one trajectory per object, a row per camera frame, the commanded orientation.
-  result.log.has_group = true;
-  for (size_t i = 0; i < twin.object_count(); ++i) {
-    Trajectory t;
-    t.id = twin.object(i).id;
-    t.object = object_type_name(twin.object(i).type);
-    t.group = scenario.name;
-    result.log.trajectories.push_back(std::move(t));
-  }
-  std::vector<std::string> types;
-  for (size_t i = 0; i < twin.object_count(); ++i) {
-    types.push_back(object_type_name(twin.object(i).type));
-  }
-  std::vector<DecisionRecord> decisions_so_far;  // for the frame callback, during the run
-  rig.add_frame_observer([&](const Twin& tw, int64_t frame) {
-    const std::vector<ObjectMotion> motion = tw.object_states();
-    std::vector<Eigen::Vector2d> p(motion.size());
-    for (size_t i = 0; i < motion.size(); ++i) {
-      p[i] = motion[i].p_W;
-      TrajectorySample s;
-      s.t_s = tw.time();
-      s.p_W = p[i];
-      s.nozzle = tw.commanded_orientation();
-      result.log.trajectories[i].samples.push_back(s);
-    }
-    metrics.add_frame(p, types);
-    if (options.on_frame) options.on_frame(tw, frame, decisions_so_far);
-  });
-
-  // The nozzle log: the start command, then each decision's as it is sent.
-  record_command(&result.nozzle_log, twin.time(), twin.commanded_orientation());
-
-  LoopOptions loop_options;
-  loop_options.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
-  loop_options.time_limit_s = scenario.task.time_limit_s;
-  result.loop = run_closed_loop(rig, controller, loop_options, [&](const DecisionRecord& d) {
-    record_command(&result.nozzle_log, rig.time(), twin.commanded_orientation());
-    if (options.on_frame) decisions_so_far.push_back(d);
-    if (options.on_progress) options.on_progress(rig.time(), loop_options.time_limit_s);
-  });
-
-  if (vision) {
-    result.vision_frames = vision->frames_processed();
-    result.vision_frame_ms = vision->mean_frame_ms();
-    result.vision_counters = vision->counters();
-    result.vision_duplicates = vision->duplicates();
-    result.vision_detections_csv = vision->detections_csv();
-  }
-  result.path_error_m = metrics.path_error();
-  result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
-  result.objects_in_zone = metrics.objects_in_zone();
-  result.success = run_verdict(scenario.task.kind, result.loop.success, result.objects_in_zone,
-                               result.n_objects);
-  double sum = 0.0;
-  for (const auto& d : result.loop.decisions) {
-    sum += d.decision_ms;
-    result.decision_ms_max = std::max(result.decision_ms_max, d.decision_ms);
-  }
-  if (!result.loop.decisions.empty()) {
-    result.decision_ms_mean = sum / static_cast<double>(result.loop.decisions.size());
-  }
-  return result;
+  // The episode with every command the controller's.
+  ScenarioEpisode episode(scenario, field_model, options);
+  while (!episode.finished()) episode.step(episode.decide());
+  return episode.result();
 }
 
 void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& field,
