@@ -105,9 +105,8 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
 }
 
 void check_air_flags(const AirFlags& flags) {
-  if (flags.drag != "eq8" && flags.drag != "physical") {
-    throw UsageError("--drag: expected eq8 or physical, got '" + flags.drag + "'");
-  }
+  SceneParameters scratch;
+  with_flags({{"drag", "--drag"}}, [&] { apply_drag_law(flags.drag, &scratch); });
   if (flags.air != "cfd" && flags.air != "model") {
     throw UsageError("--air: expected cfd or model, got '" + flags.air + "'");
   }
@@ -118,10 +117,7 @@ void check_air_flags(const AirFlags& flags) {
 
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
   check_air_flags(flags);
-  if (flags.drag == "physical") {
-    twin->scene.tracer.use_physical_drag();
-    twin->scene.cotton.use_physical_drag();
-  }
+  apply_drag_law(flags.drag, &twin->scene);
   for (const std::string& text : flags.object_physics) {
     try {
       apply_object_physics(text, &twin->scene);

@@ -100,6 +100,15 @@ void set_object_physics_value(ObjectPhysicsKey key, double typed, ObjectTypePara
   }
 }
 
+void apply_drag_law(const std::string& law, SceneParameters* scene) {
+  if (law == "physical") {
+    scene->tracer.use_physical_drag();
+    scene->cotton.use_physical_drag();
+  } else if (law != "eq8") {
+    throw FieldError("drag", "expected eq8 or physical, got '" + law + "'");
+  }
+}
+
 void apply_object_physics(const std::string& text, SceneParameters* scene) {
   AIRTWIN_DEMAND(scene != nullptr);
   const std::string where = "object physics '" + text + "'";

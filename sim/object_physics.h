@@ -51,6 +51,11 @@ double object_physics_value(const ObjectTypeParameters& p, ObjectPhysicsKey key)
 /// Sets `key` of `p` from a typed value (no checks; see apply_object_physics).
 void set_object_physics_value(ObjectPhysicsKey key, double typed, ObjectTypeParameters* p);
 
+/// Sets every object type's drag law in `scene` by name: "eq8" (eq. (8) read as physics, the
+/// default) or "physical" (ObjectTypeParameters::use_physical_drag). Throws FieldError on field
+/// "drag" for any other name.
+void apply_drag_law(const std::string& law, SceneParameters* scene);
+
 /// Parses "TYPE:key=value,..." and sets those parameters of that object type in `scene`. Throws
 /// InputError naming the text and the key: an unknown type or key (listing the valid ones), a key
 /// given twice, a value that is not a finite number or is outside its range (stating range and
