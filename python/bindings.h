@@ -4,7 +4,14 @@
 // shapes, release the GIL around the C++ work and hand arrays over without copies where the
 // layout allows; the logic is the libraries'.
 
+#include <mujoco/mujoco.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+
+#include "renders/frame_renderer.h"
 
 namespace airtwin::python {
 
@@ -20,6 +27,11 @@ void bind_identification(pybind11::module_& m);
 void bind_twin(pybind11::module_& m);
 /// CemPlanner and PlanResult: one CEM decision on a planning problem.
 void bind_planner(pybind11::module_& m);
+/// The renderer's frame of `data` as H x W x 3 uint8 RGB (the BGR frame into `bgr`, converted
+/// into the returned array in one pass), the GIL released while it renders.
+pybind11::array_t<std::uint8_t> rgb_frame(FrameRenderer& renderer, const mjData* data,
+                                          int64_t frame_index, cv::Mat& bgr);
+
 /// run_scenario and RunResult: a closed-loop run as `airtwin run` runs it.
 void bind_run(pybind11::module_& m);
 

@@ -16,6 +16,7 @@
 #include "models/air_field.h"
 #include "models/cfd_field.h"
 #include "python/bindings.h"
+#include "python/twin_setup.h"
 #include "renders/frame_renderer.h"
 #include "scenes/scenario.h"
 #include "sim/scene_spec.h"
@@ -39,12 +40,12 @@ Angles degrees(const NozzleOrientation& o) {
 class PyTwin {
  public:
   PyTwin(const std::string& scenario_path, uint64_t seed, double pan_deg, double tilt_deg,
-         bool jet_on, std::shared_ptr<const CfdField> cfd)
+         bool jet_on, const TwinSetup& setup)
       : scenario_(read_scenario(scenario_path)),
         field_(AirFieldModel::with_default_table()),
         seed_(seed),
         jet_on_(jet_on),
-        cfd_(std::move(cfd)),
+        base_(twin_parameters(setup, scenario_)),
         twin_(build(pan_deg, tilt_deg)) {}
 
   void reset() {
@@ -75,23 +76,14 @@ class PyTwin {
   // calling thread, which its OpenGL context belongs to.
   py::array_t<std::uint8_t> render(int64_t frame_index) {
     if (!renderer_) renderer_ = std::make_unique<FrameRenderer>(twin_.model());
-    py::array_t<std::uint8_t> out(
-        {py::ssize_t{renderer_->height_px()}, py::ssize_t{renderer_->width_px()}, py::ssize_t{3}});
-    cv::Mat rgb(renderer_->height_px(), renderer_->width_px(), CV_8UC3, out.mutable_data());
-    {
-      py::gil_scoped_release release;
-      renderer_->render_into(twin_.data(), frame_index, frame_);
-      cv::cvtColor(frame_, rgb, cv::COLOR_BGR2RGB);
-    }
-    return out;
+    return rgb_frame(*renderer_, twin_.data(), frame_index, frame_);
   }
 
  private:
   Twin build(double pan_deg, double tilt_deg) {
-    params_ = TwinParameters{};
+    params_ = base_;
     params_.initial_orientation = {deg_to_rad(pan_deg), deg_to_rad(tilt_deg)};
     params_.jet_on_at_start = jet_on_;
-    params_.cfd_air = cfd_;
     Twin twin(scenario_.scene, params_, field_, seed_);
     if (jet_on_) twin.settle_jet();
     return twin;
@@ -101,7 +93,7 @@ class PyTwin {
   AirFieldModel field_;
   uint64_t seed_;
   bool jet_on_;
-  std::shared_ptr<const CfdField> cfd_;
+  TwinParameters base_;  // the set-up's, before the start orientation
   TwinParameters params_;
   Twin twin_;
   std::unique_ptr<FrameRenderer> renderer_;
@@ -109,6 +101,17 @@ class PyTwin {
 };
 
 }  // namespace
+
+py::array_t<std::uint8_t> rgb_frame(FrameRenderer& renderer, const mjData* data,
+                                    int64_t frame_index, cv::Mat& bgr) {
+  py::array_t<std::uint8_t> out(
+      {py::ssize_t{renderer.height_px()}, py::ssize_t{renderer.width_px()}, py::ssize_t{3}});
+  cv::Mat rgb(renderer.height_px(), renderer.width_px(), CV_8UC3, out.mutable_data());
+  py::gil_scoped_release release;
+  renderer.render_into(data, frame_index, bgr);
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return out;
+}
 
 void bind_twin(py::module_& m) {
   py::class_<Scenario>(m, "Scenario", "A scenario file (scenes/*.yaml, docs/scenario_schema.md).")
@@ -146,13 +149,25 @@ void bind_twin(py::module_& m) {
   py::class_<PyTwin>(m, "Twin",
                      "The MuJoCo twin of a scenario's objects (docs/twin.md), with the analytical "
                      "air of the default field model, as `airtwin run` builds it.")
-      .def(py::init<const std::string&, uint64_t, double, double, bool,
-                    std::shared_ptr<const CfdField>>(),
+      .def(py::init([](const std::string& scenario_path, uint64_t seed, double pan_deg,
+                       double tilt_deg, bool jet_on, std::shared_ptr<const CfdField> cfd,
+                       const std::string& air, const std::string& drag,
+                       const std::vector<std::string>& object_physics,
+                       const std::vector<std::string>& effects, const std::string& mjcf) {
+             const TwinSetup setup{air, std::move(cfd), drag, object_physics, effects, mjcf};
+             return std::make_unique<PyTwin>(scenario_path, seed, pan_deg, tilt_deg, jet_on, setup);
+           }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
            py::arg("tilt_deg") = 0.0, py::arg("jet_on") = true, py::arg("cfd") = nullptr,
+           py::arg("air") = "", py::arg("drag") = "eq8",
+           py::arg("object_physics") = std::vector<std::string>{},
+           py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
-           "and the jet running (settled) unless jet_on is False; the air the analytical model's, "
-           "or the CFD's when `cfd` (a CfdField) is given, as `--air cfd`.")
+           "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
+           "flags: air 'model' (the analytical field) or 'cfd' (the jet's CFD: `cfd`, a "
+           "CfdField, or the shipped cases), default the CFD's when `cfd` is given; drag 'eq8' "
+           "or 'physical'; object_physics ['TYPE:key=value,...']; effects "
+           "['NAME:key=value,...']; mjcf, a user's MJCF scene (docs/twin.md).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

@@ -2,7 +2,8 @@
 # The acceptance tier (docs/testing.md): the checks that need many seeds, too long for every
 # commit. Builds Release in build/ (as scripts/test.sh), then:
 #   closed loop    the closedloop-labelled tests with AIRTWIN_TEST_TIER=acceptance: every shipped
-#                  scenario over seeds 1-10 (9 of 10 must succeed) and the octagon with vision
+#                  scenario over seeds 1-10 (9 of 10 must succeed) and the octagon with vision;
+#                  10 000 steps of the Python env without memory growth
 #   discrepancy    the discrepancy- and calibration-labelled tests in the acceptance tier (null
 #                  data over three collection seeds) once per test seed: each run draws new
 #                  hidden-effect magnitudes (default test seeds 1 2 3)
@@ -102,7 +103,10 @@ build() {
 
 closed_loop() {
   AIRTWIN_TEST_TIER=acceptance ctest --test-dir build -j"$jobs" -L '^closedloop$' \
-    --output-on-failure --timeout 3600
+    --output-on-failure --timeout 3600 &&
+    # The Python env's 10 000 steps without memory growth (CI's unit tier takes 600).
+    AIRTWIN_TEST_TIER=acceptance ctest --test-dir build -R '^python_test_memory$' \
+      --output-on-failure --timeout 3600
 }
 
 discrepancy() {

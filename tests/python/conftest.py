@@ -1,5 +1,6 @@
 """Shared helpers of the Python module's tests: the C++ routes the module is compared with."""
 
+import json
 import os
 import subprocess
 
@@ -30,6 +31,19 @@ def expect_cli_error(call, *cli_args):
         call()
     assert str(raised.value) == cli_error(*cli_args)
     return str(raised.value)
+
+
+def assert_same_run(result, out):
+    """A RunResult is the `airtwin run` written to `out`: every frame (log.csv), command
+    (nozzle.csv) and figure of summary.json but the wall-clock times of decisions and frames."""
+    assert result.log_csv() == (out / "log.csv").read_text()
+    assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
+    summary, cli = json.loads(result.summary_json()), json.loads((out / "summary.json").read_text())
+    for figures in (summary, cli):
+        figures.pop("decision_ms")
+        figures.get("vision", {}).pop("frame_ms", None)
+    assert summary == cli
+    return cli
 
 
 @pytest.fixture

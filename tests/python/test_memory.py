@@ -53,3 +53,44 @@ def test_ten_thousand_steps_without_memory_growth():
     # or 10 000 blocks; of one twin per reset, megabytes.
     assert heap_grown < 64_000, f"the C heap grew by {heap_grown} bytes"
     assert blocks_grown < 1000, f"Python holds {blocks_grown} more blocks"
+
+
+def rss_bytes():
+    """The process's resident set (/proc/self/statm's second field, in pages)."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def env_steps(env, rng, n, reset_every):
+    """n env steps of a random policy, a new episode every reset_every steps (or at its end);
+    ends on a reset, so that every measurement finds a fresh episode's log."""
+    env.reset(seed=1)
+    for k in range(1, n + 1):
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample(rng))
+        if terminated or truncated or k % reset_every == 0:
+            env.reset(seed=1 + k % 3)
+    env.reset(seed=1)
+
+
+# 10 000 steps of the line task take ~1 min: the acceptance tier's (docs/testing.md);
+# CI's unit tier takes 600 (a few seconds).
+ENV_STEPS = 10_000 if os.environ.get("AIRTWIN_TEST_TIER") == "acceptance" else 600
+
+
+def test_env_steps_without_memory_growth():
+    from airtwin.env import AirJetEnv
+    env = AirJetEnv("line", seed=1)
+    rng = np.random.default_rng(1)
+    env_steps(env, rng, 300, 50)  # warm-up: every episode length and the allocator's pools
+    heap, blocks, rss = heap_bytes_in_use(), sys.getallocatedblocks(), rss_bytes()
+    env_steps(env, rng, ENV_STEPS, 50)
+    heap_grown = heap_bytes_in_use() - heap
+    blocks_grown = sys.getallocatedblocks() - blocks
+    rss_grown = rss_bytes() - rss
+    print(f"{ENV_STEPS} env steps: heap {heap_grown:+d} B, blocks {blocks_grown:+d}, "
+          f"RSS {rss_grown:+d} B")
+    # An episode's log (72 frames a step) and the twin are freed at each reset: what a step
+    # leaves behind would grow with the steps. 16 bytes a step would be 160 KB over 10 000.
+    assert heap_grown < 64_000, f"the C heap grew by {heap_grown} bytes"
+    assert blocks_grown < 1000, f"Python holds {blocks_grown} more blocks"
+    assert rss_grown < 4 << 20, f"the resident set grew by {rss_grown} bytes"

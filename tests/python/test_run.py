@@ -1,13 +1,12 @@
 """airtwin.run_scenario against `airtwin run` on the same scenario and seed."""
 
-import json
 import os
 
 import numpy as np
 import pytest
 
 import airtwin
-from conftest import SOURCE_DIR, expect_cli_error, run_cli
+from conftest import SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
 
 LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 
@@ -20,12 +19,7 @@ def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
     assert result.success and result.scenario == "line" and result.seed == 2
 
     # The same run: every frame, command and decision (decision_ms, a wall-clock time, aside).
-    assert result.log_csv() == (out / "log.csv").read_text()
-    assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
-    summary, cli = json.loads(result.summary_json()), json.loads((out / "summary.json").read_text())
-    summary.pop("decision_ms")
-    cli.pop("decision_ms")
-    assert summary == cli
+    cli = assert_same_run(result, out)
     assert cli["success"] and result.completion_time_s == cli["completion_time_s"]
     assert result.n_decisions == cli["decisions"]
 

@@ -1,0 +1,48 @@
+#include "python/twin_setup.h"
+
+#include <mutex>
+
+#include "common/errors.h"
+#include "sim/effects.h"
+#include "sim/object_physics.h"
+#include "sim/scene_builder.h"
+
+namespace airtwin::python {
+namespace {
+
+// The shipped CFD cases, read at the first use (a few seconds) and shared by every twin.
+std::shared_ptr<const CfdField> shipped_cfd() {
+  static std::mutex mutex;
+  static std::shared_ptr<const CfdField> cfd;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!cfd) cfd = std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_CFD_DIR));
+  return cfd;
+}
+
+}  // namespace
+
+TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario) {
+  TwinParameters params;
+  // The air: the model's or the CFD's.
+  if (setup.air == "cfd") {
+    params.cfd_air = setup.cfd ? setup.cfd : shipped_cfd();
+  } else if (setup.air == "model") {
+    if (setup.cfd) throw FieldError("cfd", "CFD cases need air 'cfd'");
+  } else if (setup.air.empty()) {
+    params.cfd_air = setup.cfd;
+  } else {
+    throw FieldError("air", "expected cfd or model, got '" + setup.air + "'");
+  }
+  // The objects' drag law, then their physical parameters, then the effects.
+  apply_drag_law(setup.drag, &params.scene);
+  for (const std::string& text : setup.object_physics) apply_object_physics(text, &params.scene);
+  std::vector<Effect> effects;
+  for (const std::string& text : setup.effects) effects.push_back(parse_effect(text));
+  apply_effects(effects, &params);
+  // A user's scene: checked before any twin is built from it.
+  params.scene_file = setup.mjcf;
+  if (!setup.mjcf.empty()) load_scene(setup.mjcf, scenario.scene, params.scene);
+  return params;
+}
+
+}  // namespace airtwin::python

@@ -1,0 +1,34 @@
+#pragma once
+// The twin's set-up as Python callers give it, for Twin and the environment alike: the options
+// `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect
+// and --mjcf, validated by the libraries that own them, so a bad value raises ValueError with the
+// library's message (the field or the effect named, never a flag).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "models/cfd_field.h"
+#include "scenes/scenario.h"
+#include "sim/twin.h"
+
+namespace airtwin::python {
+
+struct TwinSetup {
+  /// "model" (the analytical field), "cfd" (the jet's CFD), or "" (the CFD's when `cfd` is
+  /// given, else the model's).
+  std::string air;
+  /// The CFD cases for air "cfd"; null: the shipped data/cfd, read once per process.
+  std::shared_ptr<const CfdField> cfd;
+  std::string drag = "eq8";                 ///< eq8 | physical (sim/object_physics.h)
+  std::vector<std::string> object_physics;  ///< "TYPE:key=value,..." in order, after drag
+  std::vector<std::string> effects;         ///< "NAME[:key=value,...]" (sim/effects.h)
+  std::string mjcf;                         ///< a user's MJCF scene; "": built
+};
+
+/// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must
+/// provide what the twin needs for its objects, sim/scene_builder.h). Throws InputError
+/// (FieldError for `air` and `drag`) naming the value that cannot be used.
+TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario);
+
+}  // namespace airtwin::python
