@@ -16,6 +16,7 @@ from ._core import (  # noqa: F401  (the public API)
     Twin,
     aim,
     identify_series,
+    identify_trajectories,
     object_dynamics,
     predict,
     run_scenario,

@@ -68,3 +68,47 @@ def test_bad_series_raise_value_error():
         airtwin.identify_series(t, v, vair, terms="1,vair")
     with pytest.raises(ValueError, match=r"^sindy\.method: "):
         airtwin.identify_series(t, v, vair, method="lasso")
+
+
+def read_trajectories(path):
+    """The trajectory CSV's rows as identify_trajectories' dicts, one per `traj`."""
+    rows = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    out = []
+    for traj in dict.fromkeys(rows["traj"]):
+        r = rows[rows["traj"] == traj]
+        out.append({"id": str(traj), "t_s": r["t"],
+                    "positions": np.column_stack([r["x"], r["y"]]),
+                    "commands_deg": np.column_stack([r["pan_deg"], r["tilt_deg"]])})
+    return out
+
+
+def test_trajectories_identify_as_the_cli_identifies_the_same_file(tmp_path):
+    data = tmp_path / "data.csv"
+    status, _, stderr = run_cli("collect", "--object", "tracer", "--tilts", "22.5,45",
+                                "--per-tilt", 6, "--seed", 1, "--out", data)
+    assert status == 0, stderr
+    status, _, stderr = run_cli("identify", data, "--object", "tracer", "--terms", "1,v,vair",
+                                "--out", tmp_path / "model.json")
+    assert status == 0, stderr
+    model = airtwin.identify_trajectories(read_trajectories(data), "tracer", terms="1,v,vair")
+    ours, cli = json.loads(model.to_json()), json.loads((tmp_path / "model.json").read_text())
+    assert cli.pop("source") == str(data) and ours.pop("source") == ""
+    assert ours == cli
+    # The paper's tracer, from the twin's Appendix D trials (eq. (8) as its physics; within
+    # 15 %: 12 trials of 0.6 s, docs/identification.md).
+    assert np.allclose(model.eq8, XI, rtol=0.15)
+
+
+def test_bad_trajectories_raise_value_error():
+    t = np.arange(5) * 0.025
+    good = {"t_s": t, "positions": np.zeros((5, 2)), "commands_deg": np.zeros((5, 2))}
+    with pytest.raises(ValueError, match=r"trajectories\[0\]: no 'commands_deg'"):
+        airtwin.identify_trajectories([{"t_s": t, "positions": np.zeros((5, 2))}], "tracer")
+    with pytest.raises(ValueError, match=r"trajectories\[0\]\.positions: expected an N x 2"):
+        airtwin.identify_trajectories([dict(good, positions=np.zeros(5))], "tracer")
+    with pytest.raises(ValueError, match=r"t_s: time must increase strictly \(sample 3\)"):
+        airtwin.identify_trajectories([dict(good, t_s=np.array([0, 1, 2, 2, 3.0]))], "tracer")
+    with pytest.raises(ValueError, match="object: expected tracer or cotton, got 'leaf'"):
+        airtwin.identify_trajectories([good], "leaf")
+    with pytest.raises(ValueError):  # at rest: no usable speed pairs
+        airtwin.identify_trajectories([good], "tracer")
