@@ -9,6 +9,11 @@ module"). Figures, not assertions; run on a quiet machine.
          stepped one 25 ms camera frame per call from Python (Twin.step: command, advance, states
          as an array) against the same frames of a twin of the same seed advanced in one C++ call
          (Twin.advance_to): the same physics, so the difference is the binding's.
+  env    the same 25 tracers in airtwin.env.AirJetEnv, one step (a turn of the closed loop:
+         aim at s = (0.9, 0.9) m, 1.8 s of 72 camera frames with the log and the task kept,
+         observation and reward as arrays) per call, against the same turn in one C++ call
+         (the module's Episode.step_at) and against the twin alone advanced over the same 1.8 s
+         in one C++ call (Twin.advance_to).
 
 Usage (from the repository's top folder, the module built):
   PYTHONPATH=build/python python3 bench/python_bench.py [--build build] [--repeats 5]
@@ -25,6 +30,7 @@ import time
 import numpy as np
 
 import airtwin
+import airtwin.env
 
 
 def best_of(repeats, work):
@@ -95,6 +101,40 @@ def twin(repeats, frames=400):
           f"{cpp_s * 1e3:.3f} ms, ratio {python_s / cpp_s:.3f}")
 
 
+def env(repeats, steps=10):
+    with tempfile.TemporaryDirectory() as folder:
+        scenario = tracers_25_scenario(folder)
+        action = np.array([0.9, 0.9])
+
+        def from_python():
+            e = airtwin.env.AirJetEnv(scenario, seed=1)
+            e.reset()
+            start = time.perf_counter()
+            for _ in range(steps):
+                e.step(action)
+            return time.perf_counter() - start
+
+        def turn_in_cpp():
+            e = airtwin._core.Episode(scenario, 1)
+            start = time.perf_counter()
+            for _ in range(steps):
+                e.step_at(0.9, 0.9)
+            return time.perf_counter() - start
+
+        def twin_in_cpp():
+            t = airtwin.Twin(scenario, 1, 30.0, 20.0)
+            start = time.perf_counter()
+            t.advance_to(steps * 1.8)
+            return time.perf_counter() - start
+
+        python_s = min(from_python() for _ in range(repeats)) / steps
+        turn_s = min(turn_in_cpp() for _ in range(repeats)) / steps
+        twin_s = min(twin_in_cpp() for _ in range(repeats)) / steps
+    print(f"env, 25 tracers, a step (1.8 s): Python {python_s * 1e3:.2f} ms, the C++ turn "
+          f"{turn_s * 1e3:.2f} ms (ratio {python_s / turn_s:.3f}), the twin alone "
+          f"{twin_s * 1e3:.2f} ms (ratio {python_s / twin_s:.3f})")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--build", default="build", help="the build folder (its airtwin_bench)")
@@ -102,6 +142,7 @@ def main():
     args = parser.parse_args()
     field(args.build, args.repeats)
     twin(args.repeats)
+    env(args.repeats)
 
 
 if __name__ == "__main__":
