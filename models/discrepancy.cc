@@ -480,31 +480,14 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   if (provisional) sel = before_provisional;  // the rounds ran out on top of it
   report.backward = backward_check(ev, train, held, windows, rule, o, say, &sel);
   if (joint_check) {
-    // The causes together against the selection before the provisional one: two spurious
-    // extensions can each make up for the other, so that each is "needed" beside the other
-    // while together they explain nothing.
-    int k = 0;
-    for (const std::string& name : sel.chosen) {
-      if (std::find(provisional_base.chosen.begin(), provisional_base.chosen.end(), name) ==
-          provisional_base.chosen.end()) {
-        k += static_cast<int>(fit_box(name).lo.size());
-      }
-    }
-    const Decision d = decide(provisional_base.figures, sel.figures, k, true, windows, rule);
-    report.joint_p_value = d.p_value;
-    if (!d.significant) {
+    const JointCheck j = check_jointly(
+        provisional_base.figures, provisional_base.chosen, sel.figures, sel.chosen,
+        [](const std::string& name) { return static_cast<int>(fit_box(name).lo.size()); }, windows,
+        rule);
+    report.joint_p_value = j.decision.p_value;
+    if (!j.kept()) {
       say("the causes found with a provisional one do not beat the model without them");
-      std::string taken_out;
-      for (const std::string& name : sel.chosen) {
-        if (std::find(provisional_base.chosen.begin(), provisional_base.chosen.end(), name) ==
-            provisional_base.chosen.end()) {
-          taken_out += (taken_out.empty() ? "" : ", ") + name;
-        }
-      }
-      report.notes.push_back(taken_out +
-                             " together did not beat the model without them on the held-out "
-                             "windows (p " +
-                             fixed(d.p_value, 4) + "): taken out again.");
+      report.notes.push_back(j.rejection_note());
       // The backward check's records are of the selection taken out.
       report.backward.clear();
       sel = provisional_base;

@@ -1,8 +1,10 @@
 #include "models/discrepancy_decision.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
+#include "models/discrepancy_report.h"
 #include "models/discrepancy_statistics.h"
 #include "models/discrepancy_windows.h"
 
@@ -55,6 +57,28 @@ DecisionWindows all_windows(size_t n_train, size_t n_held, const std::vector<dou
   w.held_scale_m = &held_scale_m;
   w.informative = &informative;
   return w;
+}
+
+JointCheck check_jointly(const WindowFigures& before, const std::vector<std::string>& before_causes,
+                         const WindowFigures& after, const std::vector<std::string>& after_causes,
+                         const std::function<int(const std::string&)>& parameter_count,
+                         const DecisionWindows& windows, const DecisionRule& rule) {
+  JointCheck j;
+  for (const std::string& name : after_causes) {
+    if (std::find(before_causes.begin(), before_causes.end(), name) == before_causes.end()) {
+      j.added.push_back(name);
+      j.k += parameter_count(name);
+    }
+  }
+  j.decision = decide(before, after, j.k, true, windows, rule);
+  return j;
+}
+
+std::string JointCheck::rejection_note() const {
+  std::string names;
+  for (const std::string& name : added) names += (names.empty() ? "" : ", ") + name;
+  return names + " together did not beat the model without them on the held-out windows (p " +
+         fixed(decision.p_value, 4) + "): taken out again.";
 }
 
 }  // namespace airtwin::discrepancy_detail

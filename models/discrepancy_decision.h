@@ -5,6 +5,8 @@
 // models/discrepancy_uncertainty.h). Internal to the analysis.
 
 #include <cstddef>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "models/discrepancy_evaluation.h"
@@ -55,5 +57,21 @@ Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k
 // Every window once, in order: the decision on the data as they are.
 DecisionWindows all_windows(size_t n_train, size_t n_held, const std::vector<double>& held_scale_m,
                             const std::vector<char>& informative);
+
+// The causes found on top of a provisional one (models/discrepancy.cc), together against the
+// selection before the provisional one: two spurious extensions can each make up for the other,
+// so that each is "needed" beside the other while together they explain nothing.
+struct JointCheck {
+  std::vector<std::string> added;  // the causes `after` has and `before` had not, in order
+  int k = 0;                       // their parameters, together
+  Decision decision;               // the rule, `after` against `before`, relevance granted
+  bool kept() const { return decision.significant; }
+  // The report's note when they are taken out again: their names and the p-value.
+  std::string rejection_note() const;
+};
+JointCheck check_jointly(const WindowFigures& before, const std::vector<std::string>& before_causes,
+                         const WindowFigures& after, const std::vector<std::string>& after_causes,
+                         const std::function<int(const std::string&)>& parameter_count,
+                         const DecisionWindows& windows, const DecisionRule& rule);
 
 }  // namespace airtwin::discrepancy_detail
