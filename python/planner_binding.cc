@@ -47,12 +47,17 @@ std::vector<Eigen::Vector2d> points_of(const DoubleArray& a, py::ssize_t n,
 struct Problem {
   std::vector<Eigen::Vector2d> positions, velocities, references;
   std::vector<ObjectDynamics> dynamics;
+  std::vector<double> weights, reach_m;  // empty: eq. (10)'s 1 and no limit
+  std::optional<NozzleOrientation> nozzle_now;
   PlanningProblem view(int anchor, double pan_hint_deg) const {
     PlanningProblem p;
     p.positions_W = positions;
     p.velocities_W = velocities;
     p.references_W = references;
     p.dynamics = dynamics;
+    p.weights = weights;
+    p.reach_m = reach_m;
+    p.nozzle_now = nozzle_now;
     p.anchor = anchor;
     p.pan_hint_rad = deg_to_rad(pan_hint_deg);
     return p;
@@ -60,7 +65,10 @@ struct Problem {
 };
 
 Problem problem_of(const DoubleArray& positions, const DoubleArray& references,
-                   const DoubleArray& dynamics, const std::optional<DoubleArray>& velocities) {
+                   const DoubleArray& dynamics, const std::optional<DoubleArray>& velocities,
+                   const std::optional<DoubleArray>& weights,
+                   const std::optional<DoubleArray>& reach_m,
+                   const std::optional<std::pair<double, double>>& nozzle_now_deg) {
   const py::ssize_t n = rows_of(positions, 2, "positions");
   Problem p;
   p.positions = points_of(positions, n, "positions");
@@ -74,6 +82,20 @@ Problem problem_of(const DoubleArray& positions, const DoubleArray& references,
   for (py::ssize_t j = 0; j < n; ++j) {
     const double* xi = dynamics.data() + 3 * j;
     p.dynamics.push_back({xi[0], xi[1], xi[2]});
+  }
+  // Per-object weights and reaches (controller/cem_planner.h), when given.
+  if (weights) {
+    require_vector(*weights, n, "weights");
+    p.weights.assign(weights->data(), weights->data() + n);
+  }
+  if (reach_m) {
+    require_vector(*reach_m, n, "reach_m");
+    p.reach_m.assign(reach_m->data(), reach_m->data() + n);
+  }
+  // The command the nozzle rests at (the transition's start, predict_transition).
+  if (nozzle_now_deg) {
+    p.nozzle_now =
+        NozzleOrientation{deg_to_rad(nozzle_now_deg->first), deg_to_rad(nozzle_now_deg->second)};
   }
   return p;
 }
@@ -142,24 +164,34 @@ void bind_planner(py::module_& m) {
           "plan",
           [](const PyPlanner& p, const DoubleArray& positions, const DoubleArray& references,
              const DoubleArray& dynamics, const std::optional<DoubleArray>& velocities,
-             std::uint64_t seed, std::uint64_t decision, int anchor, double pan_hint_deg) {
-            const Problem problem = problem_of(positions, references, dynamics, velocities);
+             std::uint64_t seed, std::uint64_t decision, int anchor, double pan_hint_deg,
+             const std::optional<DoubleArray>& weights, const std::optional<DoubleArray>& reach_m,
+             const std::optional<std::pair<double, double>>& nozzle_now_deg) {
+            const Problem problem = problem_of(positions, references, dynamics, velocities, weights,
+                                               reach_m, nozzle_now_deg);
             RandomStream rng(seed, RandomPurpose::kController, decision);
             py::gil_scoped_release release;
             return p.planner.plan(problem.view(anchor, pan_hint_deg), rng);
           },
           py::arg("positions"), py::arg("references"), py::arg("dynamics"),
           py::arg("velocities") = py::none(), py::arg("seed") = 1, py::arg("decision") = 0,
-          py::arg("anchor") = -1, py::arg("pan_hint_deg") = 0.0,
+          py::arg("anchor") = -1, py::arg("pan_hint_deg") = 0.0, py::arg("weights") = py::none(),
+          py::arg("reach_m") = py::none(), py::arg("nozzle_now_deg") = py::none(),
           "One decision: objects at positions (N x 2, m) with velocities (N x 2, m/s; default 0) "
-          "and eq. (8)'s dynamics (N x 3) to be pushed toward references (N x 2, m). The "
+          "and eq. (8)'s dynamics (N x 3) to be pushed toward references (N x 2, m); eq. (10) "
+          "with per-object weights w_j (N, default 1) and reaches R_j (N, m from the point "
+          "below the nozzle, default none); nozzle_now_deg, the (pan, tilt) the nozzle rests at, "
+          "from which the re-aim is predicted when the parameters ask (predict_transition). The "
           "samples come from the stream (seed, controller, decision). A PlanResult.")
       .def(
           "cost",
           [](const PyPlanner& p, const DoubleArray& positions, const DoubleArray& references,
              const DoubleArray& dynamics, std::pair<double, double> s,
-             const std::optional<DoubleArray>& velocities) {
-            const Problem problem = problem_of(positions, references, dynamics, velocities);
+             const std::optional<DoubleArray>& velocities,
+             const std::optional<DoubleArray>& weights, const std::optional<DoubleArray>& reach_m,
+             const std::optional<std::pair<double, double>>& nozzle_now_deg) {
+            const Problem problem = problem_of(positions, references, dynamics, velocities, weights,
+                                               reach_m, nozzle_now_deg);
             std::vector<Eigen::Vector2d> end;
             double cost = 0.0;
             {
@@ -170,8 +202,12 @@ void bind_planner(py::module_& m) {
           },
           py::arg("positions"), py::arg("references"), py::arg("dynamics"),
           py::arg("stagnation_point"), py::arg("velocities") = py::none(),
-          "eq. (10) for the candidate s (m): (cost, N x 2 predicted ends); J_P, the penalty, "
-          "when s is within delta_min of an object or out of the nozzle's reach.");
+          py::arg("weights") = py::none(), py::arg("reach_m") = py::none(),
+          py::arg("nozzle_now_deg") = py::none(),
+          "eq. (10) for the candidate s (m): (cost, N x 2 predicted ends), with weights and "
+          "reaches and nozzle_now_deg as plan's; J_P, the penalty, when s is within delta_min of "
+          "an object or out "
+          "of the nozzle's reach.");
 }
 
 }  // namespace airtwin::python

@@ -268,6 +268,9 @@ class AirJetEnv:
             "ids": known["ids"][:self.n_objects],
             "types": known["types"][:self.n_objects],
             "dynamics": known["dynamics"][:self.n_objects],
+            # eq. (10)'s shaping of the task now (sorting in stages), empty otherwise.
+            "weights": np.array(known["weights"][:self.n_objects]),
+            "reach_m": np.array(known["reach_m"][:self.n_objects]),
             "time_s": ep.time_s,
             "reference_index": ep.reference_index,
             "cost": ep.last_cost,
@@ -278,10 +281,10 @@ class AirJetEnv:
 
 class CemPolicy:
     """The shipped CEM planner (airtwin.CemPlanner with the scenario's controller parameters) as
-    a policy of the observation: eq. (10) toward the observation's references, each decision's
-    samples from the stream (seed, controller, decision number). It plans with the paper's
-    eq. (10) (no sorting stages: for those, env.controller_action()). Returns the action in the
-    env's action_type."""
+    a policy of the observation: eq. (10) toward the observation's references, with the task's
+    weights and reaches (info) when sorting in stages, the re-aim from the nozzle's command
+    predicted when the scenario asks (predict_transition), each decision's samples from the stream
+    (seed, controller, decision number). Returns the action in the env's action_type."""
 
     def __init__(self, env, seed=1):
         self.env = env
@@ -291,10 +294,12 @@ class CemPolicy:
 
     def __call__(self, obs, info):
         rows = np.isfinite(obs["positions"][:, 0])  # every object the controller knows
+        shaping = {key: info[key][rows] for key in ("weights", "reach_m") if len(info[key])}
         plan = self.planner.plan(obs["positions"][rows], obs["references"][rows],
                                  info["dynamics"][rows], velocities=obs["velocities"][rows],
                                  seed=self.seed, decision=self.decisions,
-                                 pan_hint_deg=float(obs["nozzle_deg"][0]))
+                                 pan_hint_deg=float(obs["nozzle_deg"][0]),
+                                 nozzle_now_deg=tuple(obs["nozzle_deg"]), **shaping)
         self.decisions += 1
         if self.env.action_type == "stagnation":
             return np.array(plan.stagnation_point)

@@ -93,3 +93,42 @@ def test_bad_problems_raise_value_error():
         airtwin.CemPlanner(FIELD, search="circle")
     with pytest.raises(ValueError):
         planner.plan(np.array([[np.nan, 0.0]]), np.zeros((1, 2)), xi[:1])
+
+
+def test_weights_and_reaches_shape_eq10_as_the_planner_header_says():
+    positions = OCTAGON.positions
+    references = positions + [0.1, 0.05]
+    xi = np.tile(TRACER, (4, 1))
+    planner = airtwin.CemPlanner(FIELD, scenario=OCTAGON)
+    s = (0.6, -0.3)
+    _, end = planner.cost(positions, references, xi, s)
+    w = np.array([1.0, 0.1, 0.5, 0.0])
+    reach = np.array([np.inf, 0.2, np.inf, 0.3])
+    cost, _ = planner.cost(positions, references, xi, s, weights=w, reach_m=reach)
+    # J = sum_j w_j |p_j^end - r_j| + 10 sum_j max(0, |p_j^end| - R_j), |p| from below the nozzle.
+    expected = np.sum(w * np.hypot(*(end - references).T))
+    expected += 10.0 * np.sum(np.maximum(0.0, np.hypot(*end.T) - reach))
+    assert cost == pytest.approx(expected, abs=1e-12)
+    plan = planner.plan(positions, references, xi, weights=w, reach_m=reach)
+    assert plan.cost == pytest.approx(
+        planner.cost(positions, references, xi, plan.stagnation_point, weights=w,
+                     reach_m=reach)[0], abs=1e-12)
+    with pytest.raises(ValueError, match="weights: expected a vector of 4 values"):
+        planner.cost(positions, references, xi, s, weights=w[:3])
+
+
+def test_the_nozzles_command_starts_the_predicted_re_aim():
+    sorting = airtwin.Scenario.load(os.path.join(SOURCE_DIR, "scenes/sorting.yaml"))
+    planner = airtwin.CemPlanner(FIELD, scenario=sorting)  # predict_transition: true
+    positions = sorting.positions
+    references = positions + [0.1, 0.0]
+    xi = np.array([airtwin.object_dynamics(t) for t in sorting.types])
+    s = (0.0, 0.0)  # 12 cm from the nearest object
+    at_once, _ = planner.cost(positions, references, xi, s)
+    # From where s already is, the re-aim is nothing: the paper's prediction.
+    pan_deg, tilt_deg = airtwin.aim(*s)
+    assert planner.cost(positions, references, xi, s,
+                        nozzle_now_deg=(pan_deg, tilt_deg))[0] == pytest.approx(at_once, abs=1e-9)
+    # From the far side, the sweep on the way moves the objects: another cost.
+    far, _ = planner.cost(positions, references, xi, s, nozzle_now_deg=(pan_deg + 170.0, 40.0))
+    assert abs(far - at_once) > 1e-4
