@@ -7,9 +7,7 @@
 
 #include "app/cli_common.h"
 #include "common/errors.h"
-#include "models/extended_model.h"
 #include "models/field_model_file.h"
-#include "models/identified_model.h"
 #include "sim/effects.h"
 #include "sim/scene_builder.h"
 
@@ -68,19 +66,9 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   apply_air_flags(f.air, &options.twin);
   apply_effect_flags(f.effects, &options.twin);
   options.twin.scene_file = f.mjcf;
-  // The dynamics the controller plans with, per object type.
-  for (const std::string& path : f.models) {
-    if (is_extended_model_file(path)) {
-      // extended_model.json from 'airtwin discrepancy': its coefficients and its extensions.
-      plan_with_extended_model(read_extended_model(path), field_model_of(f), &options);
-      continue;
-    }
-    const IdentifiedModel model = read_identified_model(path);
-    if (model.object.empty()) {
-      throw InputError(path + ": the model names no object type (identify it with --object)");
-    }
-    options.dynamics[model.object] = model.eq8();
-  }
+  // The dynamics the controller plans with, per object type (and an extended model's
+  // extensions).
+  if (!f.models.empty()) plan_with_model_files(f.models, field_model_of(f), &options);
   // The vision pipeline's sensor and rate.
   if (f.vision) {
     const NoiseLevel noise = parse_noise(f.noise);

@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/identified_model.h"
 #include "runs/scenario_episode.h"
 
 namespace airtwin {
@@ -38,6 +39,21 @@ void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& f
   } else if (model.extensions.field_scale != 1.0) {
     options->planning_field = std::make_shared<const AirFieldModel>(
         field.geometry(), scaled_field_table(field.table(), model.extensions.field_scale));
+  }
+}
+
+void plan_with_model_files(const std::vector<std::string>& paths, const AirFieldModel& field,
+                           ScenarioRunOptions* options) {
+  for (const std::string& path : paths) {
+    if (is_extended_model_file(path)) {
+      plan_with_extended_model(read_extended_model(path), field, options);
+      continue;
+    }
+    const IdentifiedModel model = read_identified_model(path);
+    if (model.object.empty()) {
+      throw InputError(path + ": the model names no object type (identify it with --object)");
+    }
+    options->dynamics[model.object] = model.eq8();
   }
 }
 

@@ -90,6 +90,13 @@ struct ScenarioRunResult {
 void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& field,
                               ScenarioRunOptions* options);
 
+/// The controller of `options` plans with the model files `paths`, in order, on `field`: a
+/// model.json from `airtwin identify` sets its object type's eq. (8) coefficients; an
+/// extended_model.json from `airtwin discrepancy` is plan_with_extended_model's. Throws
+/// InputError for an unreadable model or one that names no object type.
+void plan_with_model_files(const std::vector<std::string>& paths, const AirFieldModel& field,
+                           ScenarioRunOptions* options);
+
 /// A run succeeded when the controller saw its task done and, for a zone task (aggregation,
 /// sorting), the twin's truth agrees at that moment: all n_objects in their zones.
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects);
