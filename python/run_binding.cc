@@ -23,6 +23,7 @@
 #include "common/errors.h"
 #include "models/air_field.h"
 #include "models/cfd_field.h"
+#include "models/field_model_file.h"
 #include "models/nozzle_log.h"
 #include "models/trajectory_data.h"
 #include "python/bindings.h"
@@ -42,26 +43,42 @@ struct RunResult {
   double time_limit_s = 0.0;
 };
 
-RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup) {
+// What the controller plans with, as `--table` and `--model` set it: the field model (the twin's
+// analytical air too) and the model files.
+struct ControllerSetup {
+  std::string table;  ///< "": the built-in table
+  std::vector<std::string> models;
+};
+
+AirFieldModel field_model_of(const ControllerSetup& setup) {
+  return setup.table.empty() ? AirFieldModel::with_default_table()
+                             : read_air_field_model(setup.table);
+}
+
+RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
+              const ControllerSetup& controller) {
   const Scenario scenario = read_scenario(scenario_path);
+  const AirFieldModel field = field_model_of(controller);
   ScenarioRunOptions options;
   options.seed = seed;
   options.twin = twin_parameters(setup, scenario);
+  plan_with_model_files(controller.models, field, &options);
   py::gil_scoped_release release;
-  return {run_scenario(scenario, AirFieldModel::with_default_table(), options),
-          scenario.task.time_limit_s};
+  return {run_scenario(scenario, field, options), scenario.task.time_limit_s};
 }
 
 // A closed-loop run one turn at a time (runs/scenario_episode.h), the base of airtwin.env: the
 // scenario, field and options it refers to are kept with it.
 class PyEpisode {
  public:
-  PyEpisode(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup, bool vision,
-            const std::string& calib, const std::string& calib_dir, double vision_rate_hz,
-            double noise_sigma_grey, double blur_sigma_px)
-      : scenario_(read_scenario(scenario_path)), field_(AirFieldModel::with_default_table()) {
+  PyEpisode(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
+            const ControllerSetup& controller, bool vision, const std::string& calib,
+            const std::string& calib_dir, double vision_rate_hz, double noise_sigma_grey,
+            double blur_sigma_px)
+      : scenario_(read_scenario(scenario_path)), field_(field_model_of(controller)) {
     options_.seed = seed;
     options_.twin = twin_parameters(setup, scenario_);
+    plan_with_model_files(controller.models, field_, &options_);
     py::gil_scoped_release release;
     if (vision) {
       options_.vision.rate_hz = vision_rate_hz;
@@ -191,17 +208,22 @@ void bind_run(py::module_& m) {
       [](const std::string& scenario_path, uint64_t seed, std::shared_ptr<const CfdField> cfd,
          const std::string& air, const std::string& drag,
          const std::vector<std::string>& object_physics, const std::vector<std::string>& effects,
-         const std::string& mjcf) {
+         const std::string& mjcf, const std::string& table,
+         const std::vector<std::string>& models) {
         return run(scenario_path, seed,
-                   TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf});
+                   TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf},
+                   ControllerSetup{table, models});
       },
       py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
       py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
-      py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
-      "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth, the "
-      "default field model and object dynamics), as `airtwin run SCENARIO --seed N` does; the "
-      "twin's set-up as Twin's (air, cfd, drag, object_physics, effects, mjcf: the flags "
-      "--air, --cfd, --drag, --object-physics, --effect, --mjcf).");
+      py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "", py::arg("table") = "",
+      py::arg("models") = std::vector<std::string>{},
+      "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth), as "
+      "`airtwin run SCENARIO --seed N` does; the twin's set-up as Twin's (air, cfd, drag, "
+      "object_physics, effects, mjcf: the flags --air, --cfd, --drag, --object-physics, "
+      "--effect, --mjcf); the controller's field model `table` (a table CSV or field-model "
+      "JSON, as --table; default the built-in table) and `models` (model.json or "
+      "extended_model.json files, as --model).");
 
   py::class_<DecisionRecord>(m, "Decision", "One decision of the shipped controller.")
       .def_property_readonly(
@@ -224,20 +246,24 @@ void bind_run(py::module_& m) {
                        std::shared_ptr<const CfdField> cfd, const std::string& air,
                        const std::string& drag, const std::vector<std::string>& object_physics,
                        const std::vector<std::string>& effects, const std::string& mjcf,
+                       const std::string& table, const std::vector<std::string>& models,
                        bool vision, const std::string& calib, const std::string& calib_dir,
                        double vision_rate_hz, double noise_sigma_grey, double blur_sigma_px) {
              return std::make_unique<PyEpisode>(
                  scenario_path, seed,
-                 TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf}, vision, calib,
-                 calib_dir, vision_rate_hz, noise_sigma_grey, blur_sigma_px);
+                 TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf},
+                 ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
+                 noise_sigma_grey, blur_sigma_px);
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
            py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
            py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
+           py::arg("table") = "", py::arg("models") = std::vector<std::string>{},
            py::arg("vision") = false, py::arg("calib") = "", py::arg("calib_dir") = "",
            py::arg("vision_rate_hz") = 10.0, py::arg("noise_sigma_grey") = 0.0,
            py::arg("blur_sigma_px") = 0.0,
-           "Set up as run_scenario (the twin's set-up as Twin's); vision: the controller sees "
+           "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
+           "models); vision: the controller sees "
            "through the detection pipeline on rendered frames (as --vision), with the camera "
            "model `calib` (a calib.yaml) or the twin's camera calibrated into `calib_dir`.")
       .def_property_readonly("finished", [](PyEpisode& e) { return e.episode().finished(); })

@@ -60,3 +60,26 @@ def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
     message = expect_cli_error(lambda: airtwin.run_scenario(str(bad), 1), "run", bad, "--seed", 1,
                                "--out", tmp_path / "r")
     assert "task.kind" in message
+
+
+def test_a_run_with_the_controllers_models_equals_the_cli_run(tmp_path):
+    # An identified tracer model (Appendix D trials in the twin) and the CFD-fitted field model.
+    data, model = tmp_path / "data.csv", tmp_path / "tracer.json"
+    table = os.path.join(SOURCE_DIR, "models/data/cfd_fitted_field_model.json")
+    for args in (("collect", "--object", "tracer", "--tilts", "22.5,45", "--per-tilt", 6,
+                  "--seed", 1, "--out", data),
+                 ("identify", data, "--object", "tracer", "--terms", "1,v,vair", "--out", model)):
+        status, _, stderr = run_cli(*args)
+        assert status == 0, stderr
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", LINE, "--seed", 1, "--model", model, "--table", table,
+                                "--quiet", "--out", out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(LINE, 1, models=[str(model)], table=table)
+    assert_same_run(result, out)
+    # Other models, another run.
+    assert result.log_csv() != airtwin.run_scenario(LINE, 1).log_csv()
+    # An unreadable model: the CLI's line.
+    missing = tmp_path / "missing.json"
+    expect_cli_error(lambda: airtwin.run_scenario(LINE, 1, models=[str(missing)]), "run", LINE,
+                     "--model", missing, "--out", tmp_path / "r")
