@@ -9,6 +9,8 @@ Subcommands (used by startup.sh):
   write   DIR          the start-up case: wedge blockMesh, 0/ fields, PIMPLE dictionaries, probes
   write-stop SRC DIR   the stop case from the start-up's final fields in SRC (their inlet closing
                        over VALVE_S at END_TIME); its first time directory must be made ascii first
+  write-pulse DIR MS   a pulse: the start-up's case with the inlet open for MS milliseconds only
+                       (what a point beside a sweeping jet receives), run PULSE_AFTER s past it
   progress DIR         one line: simulated time, time step, wall clock per simulated second
   convert DIR OUTDIR   probes -> OUTDIR/<case>.json and _floor.csv, _axis.csv (either case)
   summary DATADIR      the figures of docs/cfd.md from the converted files (and the steady case
@@ -38,6 +40,7 @@ Z_TOP = 2.0               # domain top (m)
 H_CORE = 0.004            # cell size across the inlet and at the exit (m): D / 10
 END_TIME = 10.0           # simulated seconds; the paper's CFD was steady at ~8 s
 STOP_SPAN = 3.0           # simulated seconds after the valve closes in the stop case
+PULSE_AFTER = 1.5         # simulated seconds after a pulse's valve closes
 MAX_CO = 2.0              # Courant number the adaptive time step keeps to
 VALVE_S = 0.02            # the inlet speed ramps from 0 to its value over this time (a valve opening)
 PROBE_DT = 0.02           # probe sampling interval (s)
@@ -201,19 +204,32 @@ def axis_points():
     return [(AXIS_R, z) for z in AXIS_Z]
 
 
-def ramp(value_at):
-    """uniformFixedValue table over the valve's opening: value_at(f) at t = f VALVE_S, f = 0..1."""
+def ramp(value_at, pulse_s=None):
+    """uniformFixedValue table over the valve's opening: value_at(f) at t = f VALVE_S, f = 0..1;
+    with pulse_s, closing again over VALVE_S from t = pulse_s."""
     n = 10
-    return " ".join("(%.6g %s)" % (VALVE_S * i / n, value_at(i / n)) for i in range(n + 1))
+    rows = ["(%.6g %s)" % (VALVE_S * i / n, value_at(i / n)) for i in range(n + 1)]
+    if pulse_s is not None:
+        rows += ["(%.6g %s)" % (pulse_s + VALVE_S * i / n, value_at(1.0 - i / n)) for i in range(n + 1)]
+    return " ".join(rows)
 
 
-def cmd_write(case_dir):
+def pulse_name(pulse_s):
+    return "pulse%03dms_tilt00_d40" % round(1000 * pulse_s)
+
+
+def cmd_write(case_dir, pulse_s=None):
+    """The start-up case, or with pulse_s a pulse: the inlet open from 0 to pulse_s only."""
+    if pulse_s is not None and not VALVE_S < pulse_s <= 2.0:
+        sys.exit("startup: pulse length %g s: expected (%g, 2] s" % (pulse_s, VALVE_S))
+    end = END_TIME if pulse_s is None else pulse_s + VALVE_S + PULSE_AFTER
+    name = NAME if pulse_s is None else pulse_name(pulse_s)
     bm, cells = block_mesh()
     write_file(os.path.join(case_dir, "system/blockMeshDict"), "dictionary", "blockMeshDict", bm)
     probes = probes_entry("floor", ["U", "k", "epsilon"], floor_points())
     probes += probes_entry("axis", ["U"], axis_points())
     write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
-               CONTROL % {"end": END_TIME, "co": MAX_CO, "field_dt": FIELD_DT, "probes": probes})
+               CONTROL % {"end": end, "co": MAX_CO, "field_dt": FIELD_DT, "probes": probes})
     write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES)
     write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION)
     write_file(os.path.join(case_dir, "constant/transportProperties"), "dictionary",
@@ -229,7 +245,7 @@ def cmd_write(case_dir):
     write_file(os.path.join(zero, "U"), "volVectorField", "U",
                "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
                "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-               "        value uniform (0 0 0);\n    }\n" % ramp(lambda f: "(0 0 %.9g)" % (-f * u))
+               "        value uniform (0 0 0);\n    }\n" % ramp(lambda f: "(0 0 %.9g)" % (-f * u), pulse_s)
                + walls % ("noSlip", "") + wedge +
                "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
                "        value uniform (0 0 0);\n    }\n}\n")
@@ -246,7 +262,7 @@ def cmd_write(case_dir):
                    "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
                    "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
                    "        value uniform %g;\n    }\n"
-                   % (dims, amb, ramp(lambda f, inl=inl, pw=pw, amb=amb: "%.9g" % max(amb, inl * f ** pw)),
+                   % (dims, amb, ramp(lambda f, inl=inl, pw=pw, amb=amb: "%.9g" % max(amb, inl * f ** pw), pulse_s),
                       amb)
                    + walls % (wf, "        value uniform %g;\n" % amb) + wedge +
                    "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
@@ -256,13 +272,15 @@ def cmd_write(case_dir):
                "    \"(inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
                + walls % ("nutkWallFunction", "        value uniform 0;\n") + wedge + "}\n")
     gen = ("scripts/cfd/startup.py", "scripts/cfd/startup.sh")
-    meta = {"case": NAME, "kind": "start", "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
+    meta = {"case": name, "kind": "start" if pulse_s is None else "pulse", "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
             "cells": cells, "inlet_d_m": D, "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,
-            "momentum_flux_kinematic_m4_s2": K_KIN, "wedge_deg": WEDGE_DEG, "end_time_s": END_TIME,
+            "momentum_flux_kinematic_m4_s2": K_KIN, "wedge_deg": WEDGE_DEG, "end_time_s": end,
             "max_courant": MAX_CO, "valve_opening_s": VALVE_S}
+    if pulse_s is not None:
+        meta["pulse_s"] = pulse_s
     with open(os.path.join(case_dir, "case.json"), "w") as fh:
         json.dump(meta, fh, indent=1)
-    print("%s: %d cells, inlet %.1f m/s" % (NAME, cells, u))
+    print("%s: %d cells, inlet %.1f m/s" % (name, cells, u))
 
 
 def close_table(text, value_at, end):
@@ -409,7 +427,8 @@ def decay_figures(t, y, stop):
 def cmd_convert(case_dir, out_dir):
     meta = json.load(open(os.path.join(case_dir, "case.json")))
     name = meta["case"]
-    stop = meta["stop_time_s"] if meta.get("kind") == "stop" else None
+    kind = meta.get("kind", "start")
+    stop = meta["stop_time_s"] if kind == "stop" else None
     end = meta.get("end_time_s", END_TIME)
     fl = floor_points()
     t, U = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "U", len(fl))
@@ -423,7 +442,23 @@ def cmd_convert(case_dir, out_dir):
     nr = len(FLOOR_R)
     uz = -UA[:, :, 2]
     figures = {"floor": [], "axis": []}
-    if stop is None:
+    if kind == "pulse":
+        # the peak each probe reaches, against the start-up's steady value there
+        steady_path = os.path.join(out_dir, NAME + ".json")
+        if not os.path.exists(steady_path):
+            sys.exit("startup: %s: the start-up's figures are needed to convert a pulse" % steady_path)
+        steady = {(e["height_m"], round(e["r_m"], 4)): e["final_ur_m_s"]
+                  for e in json.load(open(steady_path))["figures"]["floor"]}
+        for hi, z in enumerate(FLOOR_Z):
+            for ri, r in enumerate(FLOOR_R):
+                y = ur[:, hi * nr + ri]
+                final = steady[(z, round(float(r), 4))]
+                i = int(np.argmax(np.sign(final) * y))
+                figures["floor"].append({"height_m": z, "r_m": float(r), "steady_ur_m_s": final,
+                                         "peak_ur_m_s": float(y[i]), "peak_t_s": float(t[i]),
+                                         "peak_fraction": float(y[i] / final) if abs(final) >= 0.3
+                                         else None})
+    elif stop is None:
         # the last second's mean is the steady state the start-up tends to
         last = t >= end - 1.0
         for hi, z in enumerate(FLOOR_Z):
@@ -541,11 +576,30 @@ def stop_summary(data_dir):
           (low["z_m"], low["half_s"], low["tenth_s"]))
 
 
+def pulse_summary(data_dir):
+    """Each pulse's peak floor air against the steady jet's (docs/cfd.md, "A short pulse")."""
+    for fn in sorted(os.listdir(data_dir)):
+        if not (fn.startswith("pulse") and fn.endswith(".json")):
+            continue
+        m = json.load(open(os.path.join(data_dir, fn)))
+        print("pulse %s: the jet open %.0f ms; the floor's radial air at 4 mm, its peak and when" %
+              (m["case"], 1000 * m["pulse_s"]))
+        for e in m["figures"]["floor"]:
+            if e["height_m"] != 0.004 or round(e["r_m"] * 100) % 10 != 1 or e["r_m"] < 0.1:
+                continue
+            frac = e["peak_fraction"]
+            print("  %.2f m  steady %.2f m/s  peak %.2f m/s (%s)  at %.2f s" %
+                  (e["r_m"], e["steady_ur_m_s"], e["peak_ur_m_s"],
+                   "%.0f %%" % (100 * frac) if frac is not None else "-", e["peak_t_s"]))
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "write":
         cmd_write(argv[2])
     elif len(argv) == 4 and argv[1] == "write-stop":
         cmd_write_stop(argv[2], argv[3])
+    elif len(argv) == 4 and argv[1] == "write-pulse":
+        cmd_write(argv[2], float(argv[3]) / 1000.0)
     elif len(argv) == 3 and argv[1] == "progress":
         cmd_progress(argv[2])
     elif len(argv) == 4 and argv[1] == "convert":
@@ -553,6 +607,7 @@ def main(argv):
     elif len(argv) == 3 and argv[1] == "summary":
         cmd_summary(argv[2])
         stop_summary(argv[2])
+        pulse_summary(argv[2])
     else:
         sys.exit(__doc__)
 

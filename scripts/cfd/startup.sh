@@ -6,8 +6,10 @@
 # Resumable: an interrupted run restarts from its last written time (every 0.5 s simulated); a
 # finished case (its data/cfd/ JSON exists) is skipped. The stop case needs the start-up's raw
 # fields in the work directory (the start-up is run again, ~2 h, when they are missing).
-# Usage: bash scripts/cfd/startup.sh [--stop] [--work DIR] [--commit]
+# Usage: bash scripts/cfd/startup.sh [--stop] [--pulse MS ...] [--work DIR] [--commit]
 #   --stop       the stop case too (after the start-up)
+#   --pulse MS   a pulse case too: the jet open for MS milliseconds (20 < MS <= 2000), what a point
+#                beside a sweeping jet receives (repeatable; pulse<MS>ms_tilt00_d40)
 #   --work DIR   raw cases (default: cfd-work/ at the repository top; not versioned)
 #   --commit     git-commit each case's converted files in data/cfd/ (only those paths)
 set -uo pipefail
@@ -18,6 +20,7 @@ work="$top/cfd-work"
 out="$top/data/cfd"
 commit=0
 stop=0
+pulses=()
 py=/usr/bin/python3
 
 while [ $# -gt 0 ]; do
@@ -25,7 +28,10 @@ while [ $# -gt 0 ]; do
     --work) work="$2"; shift 2 ;;
     --commit) commit=1; shift ;;
     --stop) stop=1; shift ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --pulse)
+      [[ "${2:-}" =~ ^[0-9]+$ ]] || { echo "startup.sh: --pulse: expected milliseconds, got '${2:-}'" >&2; exit 2; }
+      pulses+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "startup.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -53,7 +59,12 @@ run_case() {
     if [ "$name" = stop_tilt00_d40 ]; then
       echo "startup.sh: $("$py" "$here/startup.py" write-stop "$work/startup_tilt00_d40" "$case_dir")" || exit 1
     else
-      echo "startup.sh: $("$py" "$here/startup.py" write "$case_dir")" || exit 1
+      if [[ "$name" == pulse* ]]; then
+        ms=${name#pulse}; ms=$((10#${ms%%ms_*}))
+        echo "startup.sh: $("$py" "$here/startup.py" write-pulse "$case_dir" "$ms")" || exit 1
+      else
+        echo "startup.sh: $("$py" "$here/startup.py" write "$case_dir")" || exit 1
+      fi
       for tool in blockMesh checkMesh; do
         if ! (cd "$case_dir" && "${nice_cmd[@]}" "$tool" > "log.$tool" 2>&1); then
           echo "startup.sh: $tool failed, see $case_dir/log.$tool" >&2
@@ -105,7 +116,12 @@ run_case() {
   fi
 }
 
-if [ -f "$out/startup_tilt00_d40.json" ] && { [ "$stop" = 0 ] || [ -f "$out/stop_tilt00_d40.json" ]; }; then
+pulse_names=()
+for ms in "${pulses[@]}"; do pulse_names+=("$(printf 'pulse%03dms_tilt00_d40' "$((10#$ms))")"); done
+todo=0
+for n in "${pulse_names[@]}"; do [ -f "$out/$n.json" ] || todo=1; done
+if [ -f "$out/startup_tilt00_d40.json" ] && { [ "$stop" = 0 ] || [ -f "$out/stop_tilt00_d40.json" ]; } &&
+   [ "$todo" = 0 ]; then
   echo "startup.sh: done before (${out#"$top"/}/); nothing to do"
   exit 0
 fi
@@ -115,5 +131,8 @@ if [ ! -f "$out/startup_tilt00_d40.json" ] ||
   rm -f "$work/startup_tilt00_d40/.solved"
   run_case startup_tilt00_d40
 fi
-[ "$stop" = 1 ] && run_case stop_tilt00_d40
+[ "$stop" = 1 ] && [ ! -f "$out/stop_tilt00_d40.json" ] && run_case stop_tilt00_d40
+for n in "${pulse_names[@]}"; do
+  [ -f "$out/$n.json" ] || run_case "$n"
+done
 exit 0
