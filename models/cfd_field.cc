@@ -265,8 +265,9 @@ Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, double z_m
           (plane_at(p_, x_m, y_m + hy, z_m) - plane_at(p_, x_m, y_m - hy, z_m)) / (2.0 * hy)};
 }
 
-CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry)
-    : cases_(std::move(cases)), geometry_(geometry) {
+CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry,
+                   std::optional<CfdStartup> startup)
+    : cases_(std::move(cases)), geometry_(geometry), startup_(std::move(startup)) {
   if (cases_.empty()) throw InputError("CFD field: no case");
   std::sort(cases_.begin(), cases_.end(),
             [](const CfdCase& a, const CfdCase& b) { return a.tilt_rad() < b.tilt_rad(); });
@@ -306,10 +307,10 @@ CfdField CfdField::read_dir(const std::string& dir, int mesh_level, double inlet
     throw InputError(dir + ": no CFD case of mesh level " + std::to_string(mesh_level) +
                      " and inlet " + std::to_string(inlet_diameter_m) + " m (docs/cfd.md)");
   }
-  CfdField field(std::move(cases));
   const fs::path startup = fs::path(dir) / "startup_tilt00_d40.json";
-  if (fs::exists(startup, ec)) field.set_startup(CfdStartup::read(startup.string()));
-  return field;
+  std::optional<CfdStartup> timings;
+  if (fs::exists(startup, ec)) timings = CfdStartup::read(startup.string());
+  return CfdField(std::move(cases), NozzleGeometry{}, std::move(timings));
 }
 
 CfdField::Bracket CfdField::bracket(double tilt_rad) const {

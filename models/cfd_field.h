@@ -137,16 +137,16 @@ class CfdField {
   /// start-up cannot be read.
   static CfdField read_dir(const std::string& dir, int mesh_level = 1,
                            double inlet_diameter_m = 0.02);
-  /// From cases already read (any order; at least one).
-  explicit CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry = {});
+  /// From cases already read (any order; at least one) and, if the cases came with it, the
+  /// jet's start-up.
+  explicit CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry = {},
+                    std::optional<CfdStartup> startup = std::nullopt);
 
   double min_tilt_rad() const { return cases_.front().tilt_rad(); }
   double max_tilt_rad() const { return cases_.back().tilt_rad(); }
   const std::vector<CfdCase>& cases() const { return cases_; }
   /// The jet's start-up (models/cfd_startup.h) if the cases came with it, else null.
   const CfdStartup* startup() const { return startup_ ? &*startup_ : nullptr; }
-  /// Gives the cases the start-up's timings.
-  void set_startup(CfdStartup startup) { startup_ = std::move(startup); }
 
   /// The field of orientation `o`. InputError when the tilt is outside [min_tilt_rad,
   /// max_tilt_rad].

@@ -76,7 +76,10 @@ CfdStartup CfdStartup::read(const std::string& path) {
     const double z = number_field(e, "z_m", where);
     if (!e.contains("arrival_s") || e.at("arrival_s").is_null()) continue;
     const double t = number_field(e, "arrival_s", where);
-    if (z < lowest_z) lowest_z = z, transit = t;
+    if (z < lowest_z) {
+      lowest_z = z;
+      transit = t;
+    }
   }
   if (!std::isfinite(transit)) throw InputError(path + ": figures.axis: no arrival_s on the axis");
   // The wall jet's arrival at the lowest floor height, where the air was strong enough to time.
@@ -95,7 +98,10 @@ CfdStartup CfdStartup::read(const std::string& path) {
   }
   std::sort(arrivals.begin(), arrivals.end());
   std::vector<double> r, t;
-  for (const auto& [ri, ti] : arrivals) r.push_back(ri), t.push_back(ti);
+  for (const auto& [ri, ti] : arrivals) {
+    r.push_back(ri);
+    t.push_back(ti);
+  }
   try {
     return CfdStartup(transit, std::move(r), std::move(t));
   } catch (const InputError& e) {

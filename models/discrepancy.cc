@@ -184,7 +184,7 @@ CandidateResult score_candidate(const Evaluator& ev, const std::vector<size_t>& 
   c.fit_screen_evaluations = fit.screen_evaluations;
   c.relevant = extension_size(fit.ext, name) > negligible_size(name);
   *figures = figures_of(ev, fit.ext, train, held);
-  const int k = static_cast<int>(fit_box(name).lo.size());
+  const int k = parameter_count(name);
   const Decision d = decide(sel.figures, *figures, k, c.relevant, windows, rule);
   c.delta_bic = d.delta_bic;
   c.p_value = d.p_value;
@@ -276,7 +276,7 @@ std::vector<BackwardCheck> backward_check(const Evaluator& ev, const std::vector
       say("backward check: refitting without " + name);
       reduced.push_back(without_cause(ev, train, held, *sel, name, o));
       const bool relevant = extension_size(sel->current, name) > negligible_size(name);
-      const int k = static_cast<int>(fit_box(name).lo.size());
+      const int k = parameter_count(name);
       const Decision d = decide(reduced.back().figures, sel->figures, k, relevant, windows, rule);
       BackwardCheck c;
       c.name = name;
@@ -425,7 +425,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     std::vector<RoundCandidate> round_candidates;
     for (size_t i = 0; i < results.size(); ++i) {
       round_candidates.push_back(
-          {&figures[i], static_cast<int>(fit_box(results[i].name).lo.size()), results[i].relevant});
+          {&figures[i], parameter_count(results[i].name), results[i].relevant});
     }
     const std::vector<double> freq = selection_frequencies(
         sel.figures, round_candidates, held_scale_m, informative, rule, o.seed, round);
@@ -480,10 +480,8 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   if (provisional) sel = before_provisional;  // the rounds ran out on top of it
   report.backward = backward_check(ev, train, held, windows, rule, o, say, &sel);
   if (joint_check) {
-    const JointCheck j = check_jointly(
-        provisional_base.figures, provisional_base.chosen, sel.figures, sel.chosen,
-        [](const std::string& name) { return static_cast<int>(fit_box(name).lo.size()); }, windows,
-        rule);
+    const JointCheck j = check_jointly(provisional_base.figures, provisional_base.chosen,
+                                       sel.figures, sel.chosen, parameter_count, windows, rule);
     report.joint_p_value = j.decision.p_value;
     if (!j.kept()) {
       say("the causes found with a provisional one do not beat the model without them");

@@ -100,6 +100,8 @@ struct FitFunctor : Eigen::DenseFunctor<double> {
 
 }  // namespace
 
+int parameter_count(const std::string& name) { return static_cast<int>(fit_box(name).lo.size()); }
+
 FitBox fit_box(const std::string& name) {
   const EffectSpec& spec = find_effect(name);
   FitBox box;

@@ -22,6 +22,8 @@ struct FitBox {
 };
 
 FitBox fit_box(const std::string& name);
+// The number of parameters a cause is fitted with (its box's dimension).
+int parameter_count(const std::string& name);
 // Typed values from fit coordinates, and back.
 std::vector<double> typed_from_fit(const std::string& name, const double* x);
 std::vector<double> fit_from_typed(const std::string& name, const std::vector<double>& v);

@@ -288,7 +288,7 @@ void bind_run(py::module_& m) {
           "(pan_min, tilt_min, pan_max, tilt_max) of the servos (deg).")
       .def_property_readonly(
           "max_stagnation_radius_m",
-          [](PyEpisode& e) {
+          [](PyEpisode&) {
             return max_stagnation_radius(AirFieldModel::with_default_table().geometry());
           })
       .def_property_readonly("commanded_deg",
