@@ -222,7 +222,8 @@ def cmd_write(case_dir, pulse_s=None):
     """The start-up case, or with pulse_s a pulse: the inlet open from 0 to pulse_s only."""
     if pulse_s is not None and not VALVE_S < pulse_s <= 2.0:
         sys.exit("startup: pulse length %g s: expected (%g, 2] s" % (pulse_s, VALVE_S))
-    end = END_TIME if pulse_s is None else pulse_s + VALVE_S + PULSE_AFTER
+    # a pulse ends on a probe time, so its last probe is at the end (the probes write every PROBE_DT)
+    end = END_TIME if pulse_s is None else PROBE_DT * math.ceil((pulse_s + VALVE_S + PULSE_AFTER) / PROBE_DT - 1e-9)
     name = NAME if pulse_s is None else pulse_name(pulse_s)
     bm, cells = block_mesh()
     write_file(os.path.join(case_dir, "system/blockMeshDict"), "dictionary", "blockMeshDict", bm)
@@ -436,7 +437,8 @@ def cmd_convert(case_dir, out_dir):
     ta, UA = read_probe_series(os.path.join(case_dir, "postProcessing/axis"), "U", len(axis_points()))
     if t.size != tk.size:
         sys.exit("startup: U and k probes disagree in their times")
-    if t[-1] < end - 1e-6:
+    # the probes write every PROBE_DT: the last is the last multiple of it at or before the end
+    if t[-1] < PROBE_DT * math.floor(end / PROBE_DT + 1e-9) - 1e-6:
         sys.exit("startup: the run reached %g s of %g; finish it before converting" % (t[-1], end))
     ur = U[:, :, 0]                     # radial (the wedge's centre plane is y = 0)
     nr = len(FLOOR_R)
