@@ -102,6 +102,9 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
                   "Set an object type's physical parameters, TYPE:key=value,... (repeatable;\n"
                   "TYPE tracer or cotton; docs/twin.md). Keys:\n" +
                       object_physics_help());
+  sub->add_flag("--air-formation", flags.formation,
+                "With --air cfd: each object's air forms at the rate of the CFD's short pulses\n"
+                "(a swept jet's air arrives weakened; sim/air_transport.h, docs/twin.md)");
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -112,6 +115,9 @@ void check_air_flags(const AirFlags& flags) {
   }
   if (flags.air == "model" && flags.cfd_dir != AIRTWIN_CFD_DIR) {
     throw UsageError("--cfd needs --air cfd");
+  }
+  if (flags.air == "model" && flags.formation) {
+    throw UsageError("--air-formation needs --air cfd");
   }
 }
 
@@ -129,18 +135,25 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     twin->cfd_air.reset();
     return;
   }
+  twin->air_transport.formation = flags.formation;
   // One copy per folder in the process: a batch builds many twins from the same cases.
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const CfdField>> loaded;
   const std::lock_guard<std::mutex> lock(mutex);
   std::shared_ptr<const CfdField>& field = loaded[flags.cfd_dir];
   if (!field) field = std::make_shared<const CfdField>(CfdField::read_dir(flags.cfd_dir));
+  if (flags.formation && (!field->formation() || !field->startup())) {
+    throw UsageError("--air-formation: " + flags.cfd_dir +
+                     " has no jet start-up (startup_tilt00_d40.json) or no pulse cases "
+                     "(pulse<MS>ms_tilt00_d40.json); see docs/cfd.md");
+  }
   twin->cfd_air = field;
 }
 
 std::string air_identity(const AirFlags& flags) {
   std::string drag = ", drag " + flags.drag;
   for (const std::string& text : flags.object_physics) drag += ", " + text;
+  if (flags.formation) drag += ", air formation";
   if (flags.air != "cfd") return flags.air + drag;
   std::vector<std::string> headers;
   std::error_code ec;

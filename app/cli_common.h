@@ -72,9 +72,12 @@ struct AirFlags {
   std::string drag = "eq8";               ///< the objects' drag law: eq8 | physical
   /// --object-physics TYPE:key=value,... (sim/object_physics.h), applied in order after --drag.
   std::vector<std::string> object_physics;
+  /// --air-formation: the wall jet's formation from the CFD's pulses (sim/air_transport.h).
+  bool formation = false;
 };
 
-/// Adds --air cfd|model, --cfd DIR, --drag eq8|physical and --object-physics to `sub`.
+/// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics and --air-formation
+/// to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// UsageError naming --air, --cfd or --drag for a value none of them takes. Reads no file.

@@ -27,6 +27,7 @@
 //                            from its own lagged orientation.
 //   BM_TwinStep/tracers_25_cfd_rigid: the same with the rigid floor pattern (no lag), the
 //                            reference the lag's cost is read against in the same run.
+//   BM_TwinStep/tracers_25_cfd_formed: the same with the wall jet's formation (--air-formation).
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
 // 25-tracer scene), ratio_free (twin / free-running bare step rate).
@@ -107,19 +108,27 @@ std::shared_ptr<const CfdField> shipped_cfd() {
   return cfd;
 }
 
-// `rigid`: the CFD's floor pattern swings rigidly with the nozzle (no transport lag).
-TwinParameters twin_parameters(double timestep_s, bool cfd, bool rigid = false) {
+// How the CFD's floor air follows the nozzle (sim/air_transport.h).
+enum class Response {
+  kLagged,  // the default: each object in the newest orientation's air that has reached it
+  kRigid,   // the pattern swings rigidly with the nozzle (no transport lag)
+  kFormed,  // lagged, and each object's air forms at the CFD pulses' rate
+};
+
+TwinParameters twin_parameters(double timestep_s, bool cfd, Response response = Response::kLagged) {
   TwinParameters p;
   p.scene.timestep_s = timestep_s;
   if (cfd) p.cfd_air = shipped_cfd();
-  if (rigid) p.air_transport = AirTransportParameters::rigid();
+  if (response == Response::kRigid) p.air_transport = AirTransportParameters::rigid();
+  p.air_transport.formation = response == Response::kFormed;
   p.jet_on_at_start = true;
   p.initial_orientation = program(0.0);
   return p;
 }
 
-Twin make_twin(const SceneSpec& spec, double timestep_s, bool cfd = false, bool rigid = false) {
-  TwinParameters p = twin_parameters(timestep_s, cfd, rigid);
+Twin make_twin(const SceneSpec& spec, double timestep_s, bool cfd = false,
+               Response response = Response::kLagged) {
+  TwinParameters p = twin_parameters(timestep_s, cfd, response);
   Twin twin(spec, p, field_model(), 7);
   twin.settle_jet();
   return twin;
@@ -136,12 +145,13 @@ void copy_state(const mjModel* m, const mjData* from, mjData* to) {
 }
 
 void run(benchmark::State& state, const SceneSpec& spec,
-         double timestep_s = SceneParameters{}.timestep_s, bool cfd = false, bool rigid = false) {
+         double timestep_s = SceneParameters{}.timestep_s, bool cfd = false,
+         Response response = Response::kLagged) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
   };
-  Twin twin = make_twin(spec, timestep_s, cfd, rigid);
+  Twin twin = make_twin(spec, timestep_s, cfd, response);
   const mjModel* m = twin.model();
   DataPtr bare = make_data(m);
   // The air callback alone, on the twin's state: a second AirForces of the same objects.
@@ -186,7 +196,7 @@ void run(benchmark::State& state, const SceneSpec& spec,
     steps += kChunkSteps;
     if (twin.time() >= kEpisode_s) {
       state.PauseTiming();
-      twin = make_twin(spec, timestep_s, cfd, rigid);
+      twin = make_twin(spec, timestep_s, cfd, response);
       m = twin.model();
       bare = make_data(m);
       state.ResumeTiming();
@@ -209,7 +219,10 @@ void BM_TwinStep_tracers_25_cfd(benchmark::State& state) {
   run(state, tracers_25(), SceneParameters{}.timestep_s, true);
 }
 void BM_TwinStep_tracers_25_cfd_rigid(benchmark::State& state) {
-  run(state, tracers_25(), SceneParameters{}.timestep_s, true, true);
+  run(state, tracers_25(), SceneParameters{}.timestep_s, true, Response::kRigid);
+}
+void BM_TwinStep_tracers_25_cfd_formed(benchmark::State& state) {
+  run(state, tracers_25(), SceneParameters{}.timestep_s, true, Response::kFormed);
 }
 
 BENCHMARK(BM_TwinStep_tracers_25)
@@ -230,6 +243,10 @@ BENCHMARK(BM_TwinStep_tracers_25_cfd)
     ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_tracers_25_cfd_rigid)
     ->Name("BM_TwinStep/tracers_25_cfd_rigid")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK(BM_TwinStep_tracers_25_cfd_formed)
+    ->Name("BM_TwinStep/tracers_25_cfd_formed")
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_mixed_12)

@@ -11,6 +11,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/json_file.h"
 
 namespace airtwin {
 namespace {
@@ -21,16 +22,11 @@ using Json = nlohmann::json;
 constexpr const char* kFormat = "airtwin-cfd-floor 1";
 
 const Json& member(const Json& j, const std::string& key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) throw InputError(where + ": missing field '" + key + "'");
-  return j[key];
+  return json_member(j, key, where);
 }
 
 double number(const Json& j, const std::string& key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>())) {
-    throw InputError(where + ": field '" + key + "' must be a finite number");
-  }
-  return v.get<double>();
+  return json_number(j, key, where);
 }
 
 long count(const Json& j, const std::string& key, const std::string& where) {
@@ -45,16 +41,7 @@ long count(const Json& j, const std::string& key, const std::string& where) {
 
 CfdCase CfdCase::read(const std::string& header_path) {
   static_assert(std::endian::native == std::endian::little, "the CFD data are little-endian");
-  std::ifstream in(header_path);
-  if (!in) throw InputError(header_path + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  Json h;
-  try {
-    h = Json::parse(text.str());
-  } catch (const Json::exception& e) {
-    throw InputError(header_path + ": not JSON (" + e.what() + ")");
-  }
+  const Json h = read_json_file(header_path);
   const std::string& where = header_path;
   const Json& format = member(h, "format", where);
   if (!format.is_string() || format.get<std::string>() != kFormat) {
@@ -266,8 +253,11 @@ Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, double z_m
 }
 
 CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry,
-                   std::optional<CfdStartup> startup)
-    : cases_(std::move(cases)), geometry_(geometry), startup_(std::move(startup)) {
+                   std::optional<CfdStartup> startup, std::optional<WallJetFormation> formation)
+    : cases_(std::move(cases)),
+      geometry_(geometry),
+      startup_(std::move(startup)),
+      formation_(std::move(formation)) {
   if (cases_.empty()) throw InputError("CFD field: no case");
   std::sort(cases_.begin(), cases_.end(),
             [](const CfdCase& a, const CfdCase& b) { return a.tilt_rad() < b.tilt_rad(); });
@@ -310,7 +300,10 @@ CfdField CfdField::read_dir(const std::string& dir, int mesh_level, double inlet
   const fs::path startup = fs::path(dir) / "startup_tilt00_d40.json";
   std::optional<CfdStartup> timings;
   if (fs::exists(startup, ec)) timings = CfdStartup::read(startup.string());
-  return CfdField(std::move(cases), NozzleGeometry{}, std::move(timings));
+  std::optional<WallJetFormation> formation;
+  const std::vector<CfdPulse> pulses = WallJetFormation::read_pulses(dir);
+  if (!pulses.empty()) formation = WallJetFormation::fit(pulses);
+  return CfdField(std::move(cases), NozzleGeometry{}, std::move(timings), std::move(formation));
 }
 
 CfdField::Bracket CfdField::bracket(double tilt_rad) const {

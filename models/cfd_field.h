@@ -24,6 +24,7 @@
 
 #include "models/cfd_startup.h"
 #include "models/nozzle_geometry.h"
+#include "models/wall_jet_formation.h"
 
 namespace airtwin {
 
@@ -132,21 +133,25 @@ class CfdOrientedField {
 class CfdField {
  public:
   /// Reads every case in `dir` of the given mesh level and inlet diameter, the held-out tilt left
-  /// out (it is for testing the interpolation), and the jet's start-up (startup_tilt00_d40.json)
-  /// when the folder has it. InputError when no case is found, two share a tilt, or a case or the
-  /// start-up cannot be read.
+  /// out (it is for testing the interpolation), the jet's start-up (startup_tilt00_d40.json)
+  /// when the folder has it, and the wall jet's formation fitted to its pulses
+  /// (pulse<MS>ms_tilt00_d40.json) when it has any. InputError when no case is found, two share a
+  /// tilt, or a case or the start-up cannot be read.
   static CfdField read_dir(const std::string& dir, int mesh_level = 1,
                            double inlet_diameter_m = 0.02);
-  /// From cases already read (any order; at least one) and, if the cases came with it, the
-  /// jet's start-up.
+  /// From cases already read (any order; at least one) and, if the cases came with them, the
+  /// jet's start-up and the wall jet's formation.
   explicit CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry = {},
-                    std::optional<CfdStartup> startup = std::nullopt);
+                    std::optional<CfdStartup> startup = std::nullopt,
+                    std::optional<WallJetFormation> formation = std::nullopt);
 
   double min_tilt_rad() const { return cases_.front().tilt_rad(); }
   double max_tilt_rad() const { return cases_.back().tilt_rad(); }
   const std::vector<CfdCase>& cases() const { return cases_; }
   /// The jet's start-up (models/cfd_startup.h) if the cases came with it, else null.
   const CfdStartup* startup() const { return startup_ ? &*startup_ : nullptr; }
+  /// The wall jet's formation (models/wall_jet_formation.h) if the cases came with pulses.
+  const WallJetFormation* formation() const { return formation_ ? &*formation_ : nullptr; }
 
   /// The field of orientation `o`. InputError when the tilt is outside [min_tilt_rad,
   /// max_tilt_rad].
@@ -169,6 +174,7 @@ class CfdField {
   std::vector<CfdCase> cases_;  // by tilt
   NozzleGeometry geometry_;
   std::optional<CfdStartup> startup_;
+  std::optional<WallJetFormation> formation_;
 };
 
 }  // namespace airtwin

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "models/json_file.h"
 
 namespace airtwin {
 namespace {
@@ -15,14 +16,7 @@ namespace {
 using Json = nlohmann::json;
 
 double number_field(const Json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) {
-    throw InputError(where + ": missing field '" + key + "'");
-  }
-  const Json& v = j.at(key);
-  if (!v.is_number() || !std::isfinite(v.get<double>())) {
-    throw InputError(where + ": field '" + key + "' must be a finite number");
-  }
-  return v.get<double>();
+  return json_number(j, key, where);
 }
 
 }  // namespace
@@ -50,14 +44,7 @@ CfdStartup::CfdStartup(double transit_s, std::vector<double> r_m, std::vector<do
 }
 
 CfdStartup CfdStartup::read(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
-  Json j;
-  try {
-    in >> j;
-  } catch (const Json::exception& e) {
-    throw InputError(path + ": not JSON (" + e.what() + ")");
-  }
+  const Json j = read_json_file(path);
   if (!j.is_object() || !j.contains("figures") || !j.at("figures").is_object()) {
     throw InputError(path + ": missing field 'figures'");
   }

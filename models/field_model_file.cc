@@ -9,6 +9,7 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "models/field_table.h"
+#include "models/json_file.h"
 
 namespace airtwin {
 namespace {
@@ -33,16 +34,7 @@ bool is_field_model_file(const std::string& path) { return fs::path(path).extens
 AirFieldModel read_air_field_model(const std::string& path) {
   if (!is_field_model_file(path))
     return AirFieldModel(NozzleGeometry{}, FieldTable::load_csv(path));
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  Json j;
-  try {
-    j = Json::parse(text.str());
-  } catch (const Json::exception& e) {
-    throw InputError(path + ": not JSON (" + e.what() + ")");
-  }
+  const Json j = read_json_file(path);
   if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {
     throw InputError(path + ": format: expected \"" + std::string(kFormat) + "\"");
   }

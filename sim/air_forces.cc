@@ -132,6 +132,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   epsilon_body_.setZero(n);
   lift_body_.setZero(n);
   object_cfd_.assign(objects_.size(), nullptr);
+  object_departure_.assign(objects_.size(), Eigen::Vector2d::Zero());
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
 }
@@ -161,10 +162,28 @@ void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
   any_object_air_ = true;
 }
 
+void AirForces::set_object_air_departure(size_t o, const Eigen::Vector2d& departure) {
+  AIRTWIN_DEMAND(o < objects_.size() && cfd_ != nullptr);
+  object_departure_[o] = departure;
+  any_object_air_ = true;
+}
+
 void AirForces::clear_object_air() {
   if (!any_object_air_) return;
   std::fill(object_cfd_.begin(), object_cfd_.end(), nullptr);
+  std::fill(object_departure_.begin(), object_departure_.end(), Eigen::Vector2d::Zero());
   any_object_air_ = false;
+}
+
+Eigen::Vector2d AirForces::object_mean_air(size_t o, const Eigen::Vector2d& p_W, double z_m) const {
+  AIRTWIN_DEMAND(o < objects_.size());
+  if (cfd_ == nullptr || object_cfd_[o] == nullptr) {
+    const Eigen::Vector2d common = mean_air(p_W, z_m);
+    if (cfd_ == nullptr) return common;
+    return common + jet_level_ * params_.field_scale * turned(object_departure_[o]);
+  }
+  return jet_level_ * params_.field_scale *
+         turned(object_cfd_[o]->at(p_W, z_m).u_W + object_departure_[o]);
 }
 
 void AirForces::advance_turbulence() {
@@ -300,7 +319,7 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       for (Eigen::Index col = static_cast<Eigen::Index>(first_body_[o]);
            col < static_cast<Eigen::Index>(first_body_[o + 1]); ++col) {
         const CfdSample a = cfd.at(p_body_W_.col(col), z_body_[col]);
-        u_body_W_.col(col) = a.u_W;
+        u_body_W_.col(col) = a.u_W + object_departure_[o];
         k_body_[col] = a.k;
         epsilon_body_[col] = a.epsilon;
         // The pressure only matters near s; farther out it is not looked up.

@@ -137,8 +137,15 @@ class AirForces {
   /// clear_object_air(): the wall jet's transport lag gives each object the orientation whose air
   /// has reached it (sim/air_transport.h). `field` must outlive the next apply().
   void set_object_air(size_t o, const CfdOrientedField& field);
-  /// Every object feels the common air again.
+  /// In the CFD's air, object o's bodies feel `departure` (m/s, world frame, before the jet
+  /// level and field scale) added to the air of its field until clear_object_air(): the wall
+  /// jet still forming after the reached orientation changed (sim/air_transport.h).
+  void set_object_air_departure(size_t o, const Eigen::Vector2d& departure);
+  /// Every object feels the common air again, with no departure.
   void clear_object_air();
+  /// The mean air object o feels at floor point p_W and height z_m (m/s, world frame, before
+  /// turbulence): its own field and departure, turned, times the jet level and field scale.
+  Eigen::Vector2d object_mean_air(size_t o, const Eigen::Vector2d& p_W, double z_m) const;
   /// Advances each object's turbulence by one timestep (call once per physics step).
   void advance_turbulence();
   /// Adds the air forces of the current state to d->qfrc_passive. Called by the dispatcher from
@@ -194,6 +201,7 @@ class AirForces {
   const CfdOrientedField* cfd_ = nullptr;  // the CFD's
   // Per object in the CFD's air: its own air (set_object_air), or null for the common one.
   std::vector<const CfdOrientedField*> object_cfd_;
+  std::vector<Eigen::Vector2d> object_departure_;  // per object (set_object_air_departure)
   bool any_object_air_ = false;
   double jet_level_ = 0.0;
   double timestep_s_ = 0.0;

@@ -22,16 +22,31 @@
 // r from the sweeping s sees the orientation r / U_front ago; at rest (no change within the
 // longest lag) every point sees the present one.
 //
-// AirTransport keeps the effective orientations of the last max_lag_s, one per physics step,
-// and answers which one reaches a point; the twin (sim/twin.h) gives each object the air of
-// that orientation (sim/air_forces.h). The lag is found by one fixed-point step: r0 from the
-// present s gives an orientation, r1 from that orientation's s the one used.
+// The wall jet also takes time to form (models/wall_jet_formation.h, the CFD's pulses): a point
+// feels the air of the orientation that reaches it through a first-order formation of time
+// tau(r), so a point the sweeping jet's footprint passes in 0.1 s gets ~60 % of its air near s
+// and less farther out, where a rigid hand-over gave it all. The twin keeps each object's
+// departure from the reached air and lets it decay by exp(-dt / tau(r)) a step (sim/twin.cc);
+// the departure only grows when the reached orientation changes, never as an object moves
+// through still air. So that a step's air still reaches half its value when the start-up's
+// front does, the lag is shortened by ln 2 tau(r) (never below 0).
+//
+// AirTransport keeps the effective orientations of the last max_lag_s and their stagnation
+// points, one per physics step, and answers which one reaches a point: the newest whose air
+// has had time to get there, i.e. the smallest k with lag(|p - s_k|) <= k steps. The air of a
+// newer orientation is still on its way, that of an older one has been displaced by it; after
+// a brief turn away and back the point keeps the brief orientation's air until the return's
+// own air arrives. The lag grows with r, so "reached after k steps" is "within reach(k) of s_k",
+// and the reaches are tabled once. The twin (sim/twin.h) gives each object the air of that
+// orientation (sim/air_forces.h).
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
 #include "models/cfd_startup.h"
 #include "models/nozzle_geometry.h"
+#include "models/wall_jet_formation.h"
 
 namespace airtwin {
 
@@ -46,38 +61,65 @@ struct AirTransportParameters {
   /// instead of NozzleActuatorParameters::field_delay_s (sim/twin.h). front_speed_mps 0 still
   /// switches the lag off.
   bool cfd_timing = true;
+  /// In the CFD's air, when its cases come with pulses (CfdField::formation) and cfd_timing is
+  /// set: the wall jet's first-order formation (top of this file); false hands each point the
+  /// reached orientation's whole air at once. Off by default until the physical drag is
+  /// calibrated with it: with the drag calibrated without it, the Appendix D identification
+  /// loses eq. (8)'s air term (docs/twin.md).
+  bool formation = false;
   /// No lag: the floor pattern swings rigidly with the effective orientation.
-  static AirTransportParameters rigid() { return {0.0, 0.0, false}; }
+  static AirTransportParameters rigid() { return {0.0, 0.0, false, false}; }
   /// Throws InputError naming the field unless both are finite and in range.
   void validate() const;
 };
 
 class AirTransport {
  public:
-  /// `initial` fills the history: the air has been at rest there. `startup` (may be null; must
-  /// outlive the transport) gives the lag when params.cfd_timing is set.
+  /// `initial` (with its stagnation point initial_s_W) fills the history: the air has been at
+  /// rest there. `startup` (may be null; must outlive the transport) gives the lag when
+  /// params.cfd_timing is set; `formation` (may be null; must outlive it) the formation when
+  /// params.formation is set too.
   AirTransport(const AirTransportParameters& params, double timestep_s,
-               const NozzleOrientation& initial, const CfdStartup* startup = nullptr);
+               const NozzleOrientation& initial, const CfdStartup* startup = nullptr,
+               const WallJetFormation* formation = nullptr,
+               const Eigen::Vector2d& initial_s_W = Eigen::Vector2d::Zero());
 
-  /// Records this step's effective orientation (call once per physics step, before the lags).
-  void push(const NozzleOrientation& effective);
+  /// Records this step's effective orientation and its stagnation point (m, world frame; call
+  /// once per physics step, before the lags).
+  void push(const NozzleOrientation& effective,
+            const Eigen::Vector2d& s_W = Eigen::Vector2d::Zero());
   /// False when the lag is switched off.
   bool enabled() const { return params_.front_speed_mps > 0.0; }
   /// True when every orientation of the kept history is the present one: every point then
   /// feels the present air.
   bool steady() const { return steps_since_change_ >= capacity_ - 1; }
   /// Steps back whose orientation reaches a point r_m from s (0: the present), at most the
-  /// history's span.
+  /// history's span; with the formation, the lag less ln 2 tau(r).
   int lag_steps(double r_m) const;
+  /// Steps back of the newest orientation whose air has reached floor point p_W: the smallest
+  /// k with lag_steps(|p_W - s_k|) <= k (the history's span when none has).
+  int reached_steps(const Eigen::Vector2d& p_W) const;
+  /// True when the air forms over time (a formation is in use and the lag is on).
+  bool forms() const { return formation_ != nullptr && enabled(); }
+  /// With the formation, what is left after one step of a departure from the reached air at r
+  /// from s: exp(-dt / tau(r)); without it 0 (the reached air is felt at once).
+  double formation_decay(double r_m) const;
   /// The effective orientation `steps` steps ago (0: the present), clamped to the history.
   const NozzleOrientation& at_lag(int steps) const;
 
  private:
   AirTransportParameters params_;
-  const CfdStartup* startup_;  // the lag's source when set, else r / front_speed_mps
+  const CfdStartup* startup_;          // the lag's source when set, else r / front_speed_mps
+  const WallJetFormation* formation_;  // set when params.formation and startup_ are
   double timestep_s_;
   int capacity_;  // orientations kept: max_lag_s / dt + 1
+  // The lag (s) at r, with the formation's shortening.
+  double lag_s(double r_m) const;
   std::vector<NozzleOrientation> ring_;
+  std::vector<Eigen::Vector2d> s_ring_;  // each orientation's stagnation point
+  // reach2_[k]: the squared distance within which air k steps old has arrived (infinite when
+  // every distance has).
+  std::vector<double> reach2_;
   int newest_ = 0;              // index of the present orientation in ring_
   int64_t steps_since_change_;  // steps since the orientation last changed
 };

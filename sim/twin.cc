@@ -33,10 +33,15 @@ struct Twin::Impl {
         air(params.air, params.scene, scene.objects, seed, params.scene.timestep_s),
         transport(params.cfd_air ? params.air_transport : AirTransportParameters::rigid(),
                   params.scene.timestep_s, actuator.effective(),
-                  params.cfd_air ? params.cfd_air->startup() : nullptr) {
+                  params.cfd_air ? params.cfd_air->startup() : nullptr,
+                  params.cfd_air ? params.cfd_air->formation() : nullptr,
+                  params.cfd_air ? params.cfd_air->stagnation_point(actuator.effective())
+                                 : Eigen::Vector2d::Zero()),
+        formation(scene.objects.size(), Formation{actuator.effective(), 0, {0.0, 0.0}}) {
     if (params.cfd_air) cfd_field = params.cfd_air->at(actuator.effective());
-    // At most two lookups per object a step (sim/air_transport.h): no reallocation, so the
-    // pointers handed to the air forces stay valid through the step.
+    // At most two lookups per object a step (the reached orientation, and the formation's
+    // orientation before it): no reallocation, so the pointers handed to the air forces stay valid
+    // through the step.
     lagged_cfd.reserve(2 * scene.objects.size());
   }
 
@@ -57,6 +62,15 @@ struct Twin::Impl {
   std::optional<CfdOrientedField> cfd_field;  // the air when params.cfd_air is set
   AirForces air;
   AirTransport transport;
+  // Per object, the wall jet's formation (sim/air_transport.h): the orientation whose air
+  // reached it last step, how many steps back that was, and its departure from that air.
+  struct Formation {
+    NozzleOrientation reached;
+    int steps = 0;
+    Eigen::Vector2d departure;
+  };
+  std::vector<Formation> formation;
+  bool forming = false;  // some object's departure is not yet zero
   // This step's CFD airs of lagged orientations, by steps back (cleared every step).
   std::vector<std::pair<int, CfdOrientedField>> lagged_cfd;
   int64_t steps = 0;
@@ -90,20 +104,45 @@ const CfdOrientedField& Twin::Impl::lagged_cfd_air(int steps) {
   return lagged_cfd.back().second;
 }
 
-// Each object's air comes from the orientation whose wall jet has reached it: r from the
-// present s gives a first lag, r from that orientation's s the one used (sim/air_transport.h).
-// The transport is enabled in the CFD's air only (TwinParameters::air_transport).
+// Each object's air comes from the newest orientation whose wall jet has reached it
+// (sim/air_transport.h).
+// With the formation, a change of that orientation adds the change of its air at the object to
+// the object's departure, which decays at the formation's rate there. The transport is enabled
+// in the CFD's air only (TwinParameters::air_transport).
 void Twin::Impl::set_object_air() {
   air.clear_object_air();
   lagged_cfd.clear();
-  if (!cfd_field || !transport.enabled() || transport.steady()) return;
-  const Eigen::Vector2d s_now = cfd_field->stagnation_point();
+  if (!cfd_field || !transport.enabled() || (transport.steady() && !forming)) return;
+  const bool forms = transport.forms();
+  forming = false;
   for (size_t o = 0; o < scene.objects.size(); ++o) {
     const double* x = data->xpos + 3 * scene.objects[o].root_body;
     const Eigen::Vector2d p(x[0], x[1]);
-    const int first = transport.lag_steps((p - s_now).norm());
-    const Eigen::Vector2d s_first = first == 0 ? s_now : lagged_cfd_air(first).stagnation_point();
-    const int steps = transport.lag_steps((p - s_first).norm());
+    const double z = data->xipos[3 * scene.objects[o].root_body + 2];
+    const int steps = transport.reached_steps(p);
+    if (forms) {
+      const CfdOrientedField& reached = steps == 0 ? *cfd_field : lagged_cfd_air(steps);
+      Formation& f = formation[o];
+      const NozzleOrientation& now = transport.at_lag(steps);
+      if (now.pan_rad != f.reached.pan_rad || now.tilt_rad != f.reached.tilt_rad) {
+        // Last step's orientation is one step further back now, usually already built.
+        const int before = f.steps + 1;
+        const NozzleOrientation& b = transport.at_lag(before);
+        const bool cached = b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad;
+        const Eigen::Vector2d u_before =
+            cached ? lagged_cfd_air(before).at(p, z).u_W : params.cfd_air->at(f.reached, p, z).u_W;
+        f.departure -= reached.at(p, z).u_W - u_before;
+        f.reached = now;
+      }
+      f.steps = steps;
+      f.departure *= transport.formation_decay((p - reached.stagnation_point()).norm());
+      if (f.departure.squaredNorm() < 1e-8) {
+        f.departure.setZero();  // below 0.1 mm/s
+      } else {
+        air.set_object_air_departure(o, f.departure);
+        forming = true;
+      }
+    }
     if (steps > 0) air.set_object_air(o, lagged_cfd_air(steps));
   }
 }
@@ -209,7 +248,8 @@ void Twin::step() {
   s.actuator.step();
   s.set_rig_joints();
   s.refresh_field();
-  s.transport.push(s.actuator.effective());
+  s.transport.push(s.actuator.effective(),
+                   s.cfd_field ? s.cfd_field->stagnation_point() : Eigen::Vector2d::Zero());
   if (s.cfd_field) {
     s.air.set_air(*s.cfd_field, s.actuator.jet_level());
   } else {
