@@ -32,6 +32,7 @@ AirTransport::AirTransport(const AirTransportParameters& params, double timestep
   capacity_ = enabled() ? static_cast<int>(std::ceil(params_.max_lag_s / timestep_s_)) + 1 : 1;
   ring_.assign(static_cast<size_t>(capacity_), initial);
   s_ring_.assign(static_cast<size_t>(capacity_), initial_s_W);
+  s_min_ = s_max_ = initial_s_W;
   steps_since_change_ = capacity_;
   // The reach after k steps: the lag's running maximum over r on a 1 mm grid out to 10 m (a
   // point counts as reached once every nearer one is), against lag_steps' rounding: air k steps
@@ -59,6 +60,17 @@ void AirTransport::push(const NozzleOrientation& effective, const Eigen::Vector2
   newest_ = (newest_ + 1) % capacity_;
   ring_[static_cast<size_t>(newest_)] = effective;
   s_ring_[static_cast<size_t>(newest_)] = s_W;
+  // The box grows with each new s (a larger box only starts the search earlier) and is fitted
+  // to the kept points again every 64 steps while some kept orientation differs.
+  s_min_ = s_min_.cwiseMin(s_W);
+  s_max_ = s_max_.cwiseMax(s_W);
+  if (newest_ % 64 == 0 && (changed || steps_since_change_ < capacity_ - 1)) {
+    s_min_ = s_max_ = s_W;
+    for (const Eigen::Vector2d& s : s_ring_) {
+      s_min_ = s_min_.cwiseMin(s);
+      s_max_ = s_max_.cwiseMax(s);
+    }
+  }
   steps_since_change_ = changed ? 0 : std::min<int64_t>(steps_since_change_ + 1, capacity_);
 }
 
@@ -76,13 +88,28 @@ int AirTransport::lag_steps(double r_m) const {
 
 int AirTransport::reached_steps(const Eigen::Vector2d& p_W) const {
   if (!enabled()) return 0;
-  for (int k = 0; k < capacity_ - 1; ++k) {
-    const int i = (newest_ - k + capacity_) % capacity_;
-    if ((p_W - s_ring_[static_cast<size_t>(i)]).squaredNorm() < reach2_[static_cast<size_t>(k)]) {
-      return k;
-    }
+  // No air younger than the reach of p's distance from the box has arrived: start there.
+  const Eigen::Vector2d out =
+      (s_min_ - p_W).cwiseMax(p_W - s_max_).cwiseMax(Eigen::Vector2d::Zero());
+  const double d2 = out.squaredNorm();
+  const int first = static_cast<int>(
+      std::upper_bound(reach2_.begin(), reach2_.end() - 1, d2) - reach2_.begin());
+  // The ring read backwards from the newest in its two contiguous runs (no index wrapping in the
+  // loops: this runs for every object every step while the nozzle moves).
+  const int last = capacity_ - 1;  // the oldest is the answer when nothing younger has arrived
+  const double px = p_W.x(), py = p_W.y();
+  const Eigen::Vector2d* s = s_ring_.data();
+  const double* reach2 = reach2_.data();
+  int k = first;
+  for (int i = newest_ - k; k < last && i >= 0; ++k, --i) {
+    const double dx = px - s[i].x(), dy = py - s[i].y();
+    if (dx * dx + dy * dy < reach2[k]) return k;
   }
-  return capacity_ - 1;
+  for (int i = newest_ - k + capacity_; k < last; ++k, --i) {
+    const double dx = px - s[i].x(), dy = py - s[i].y();
+    if (dx * dx + dy * dy < reach2[k]) return k;
+  }
+  return last;
 }
 
 double AirTransport::formation_decay(double r_m) const {

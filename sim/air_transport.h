@@ -120,6 +120,9 @@ class AirTransport {
   // reach2_[k]: the squared distance within which air k steps old has arrived (infinite when
   // every distance has).
   std::vector<double> reach2_;
+  // The box around every kept stagnation point: no orientation reaches a point p sooner than
+  // the first k whose reach exceeds p's distance from it.
+  Eigen::Vector2d s_min_, s_max_;
   int newest_ = 0;              // index of the present orientation in ring_
   int64_t steps_since_change_;  // steps since the orientation last changed
 };
