@@ -92,8 +92,8 @@ int AirTransport::reached_steps(const Eigen::Vector2d& p_W) const {
   const Eigen::Vector2d out =
       (s_min_ - p_W).cwiseMax(p_W - s_max_).cwiseMax(Eigen::Vector2d::Zero());
   const double d2 = out.squaredNorm();
-  const int first = static_cast<int>(
-      std::upper_bound(reach2_.begin(), reach2_.end() - 1, d2) - reach2_.begin());
+  const int first =
+      static_cast<int>(std::upper_bound(reach2_.begin(), reach2_.end() - 1, d2) - reach2_.begin());
   // The ring read backwards from the newest in its two contiguous runs (no index wrapping in the
   // loops: this runs for every object every step while the nozzle moves).
   const int last = capacity_ - 1;  // the oldest is the answer when nothing younger has arrived
