@@ -6,7 +6,9 @@
 # 20.9 cm^2), seeds 1..N, planning with that model. Ends with the batch report (success rates,
 # median times and path errors) to set beside Table I.
 # Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--physics TYPE:k=v,...]
-#        [--airtwin PATH] [--out DIR]
+#        [--formation] [--model FILE] [--airtwin PATH] [--out DIR]
+#   --formation  the twin's air forms at the CFD pulses' rate (airtwin's --air-formation)
+#   --model FILE plan with this identified model instead of collecting and identifying one
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,28 +16,37 @@ seeds=10
 physics="tracer:cd=0.35,mu_k=0.4,mu_s_ratio=1.4,cl=0.2"
 airtwin=build/airtwin
 out=results/physical_twin_closed_loop
+formation=()
+model=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --seeds) seeds="$2"; shift 2 ;;
+    --formation) formation=(--air-formation); shift ;;
+    --model) model="$2"; shift 2 ;;
     --physics) physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
 [ -x "$airtwin" ] || { echo "physical_twin_closed_loop.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
 
 table=models/data/cfd_fitted_field_model.json
-twin=(--air cfd --drag physical --object-physics "$physics")
+twin=(--air cfd --drag physical --object-physics "$physics" "${formation[@]}")
 mkdir -p "$out/scenes"
 rm -rf "$out/batch"
 
 # Appendix D in the twin (collection seed 202) and eq. (8)'s terms identified from it.
-"$airtwin" collect --object tracer --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
-  --out "$out/collection.csv" > "$out/collect.log" 2>&1
-"$airtwin" identify "$out/collection.csv" --object tracer --table "$table" --terms 1,v,vair \
-  --out "$out/tracer_model.json" | sed -n 2,3p
+if [ -n "$model" ]; then
+  [ -f "$model" ] || { echo "physical_twin_closed_loop.sh: --model: no file $model" >&2; exit 1; }
+  cp "$model" "$out/tracer_model.json"
+else
+  "$airtwin" collect --object tracer --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
+    --out "$out/collection.csv" > "$out/collect.log" 2>&1
+  "$airtwin" identify "$out/collection.csv" --object tracer --table "$table" --terms 1,v,vair \
+    --out "$out/tracer_model.json" | sed -n 2,3p
+fi
 
 # The paper's CEM settings: the files differ from the code's defaults (the paper's) only where
 # they retune Sigma0 for the mirror twin; the octagon already uses the defaults.
