@@ -153,8 +153,10 @@ void bind_twin(py::module_& m) {
                        double tilt_deg, bool jet_on, std::shared_ptr<const CfdField> cfd,
                        const std::string& air, const std::string& drag,
                        const std::vector<std::string>& object_physics,
-                       const std::vector<std::string>& effects, const std::string& mjcf) {
-             const TwinSetup setup{air, std::move(cfd), drag, object_physics, effects, mjcf};
+                       const std::vector<std::string>& effects, const std::string& mjcf,
+                       bool air_formation) {
+             const TwinSetup setup{air,     std::move(cfd), drag,         object_physics,
+                                   effects, mjcf,           air_formation};
              return std::make_unique<PyTwin>(scenario_path, seed, pan_deg, tilt_deg, jet_on, setup);
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
@@ -162,12 +164,14 @@ void bind_twin(py::module_& m) {
            py::arg("air") = "", py::arg("drag") = "eq8",
            py::arg("object_physics") = std::vector<std::string>{},
            py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
+           py::arg("air_formation") = false,
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
            "flags: air 'model' (the analytical field) or 'cfd' (the jet's CFD: `cfd`, a "
            "CfdField, or the shipped cases), default the CFD's when `cfd` is given; drag 'eq8' "
            "or 'physical'; object_physics ['TYPE:key=value,...']; effects "
-           "['NAME:key=value,...']; mjcf, a user's MJCF scene (docs/twin.md).")
+           "['NAME:key=value,...']; mjcf, a user's MJCF scene; air_formation, the wall jet's "
+           "formation in the CFD's air (--air-formation; docs/twin.md).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

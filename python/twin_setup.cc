@@ -33,6 +33,14 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
   } else {
     throw FieldError("air", "expected cfd or model, got '" + setup.air + "'");
   }
+  if (setup.air_formation) {
+    if (!params.cfd_air) throw FieldError("air_formation", "needs the CFD's air (air 'cfd')");
+    if (!params.cfd_air->formation() || !params.cfd_air->startup()) {
+      throw FieldError("air_formation",
+                       "the CFD cases have no jet start-up or no pulses (docs/cfd.md)");
+    }
+    params.air_transport.formation = true;
+  }
   // The objects' drag law, then their physical parameters, then the effects.
   apply_drag_law(setup.drag, &params.scene);
   for (const std::string& text : setup.object_physics) apply_object_physics(text, &params.scene);

@@ -1,8 +1,8 @@
 #pragma once
 // The twin's set-up as Python callers give it, for Twin and the environment alike: the options
-// `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect
-// and --mjcf, validated by the libraries that own them, so a bad value raises ValueError with the
-// library's message (the field or the effect named, never a flag).
+// `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
+// --mjcf and --air-formation, validated by the libraries that own them, so a bad value raises
+// ValueError with the library's message (the field or the effect named, never a flag).
 
 #include <memory>
 #include <string>
@@ -24,6 +24,8 @@ struct TwinSetup {
   std::vector<std::string> object_physics;  ///< "TYPE:key=value,..." in order, after drag
   std::vector<std::string> effects;         ///< "NAME[:key=value,...]" (sim/effects.h)
   std::string mjcf;                         ///< a user's MJCF scene; "": built
+  /// The wall jet's formation in the CFD's air (--air-formation, sim/air_transport.h).
+  bool air_formation = false;
 };
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must

@@ -54,6 +54,26 @@ def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
     assert result.log_csv() != airtwin.run_scenario(str(scenario), 1).log_csv()
 
 
+def test_a_run_with_the_air_formation_equals_the_cli_run(tmp_path):
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--air-formation",
+                                "--quiet", "--out", out)
+    assert status == 0, stderr
+    cfd = airtwin.CfdField.read_dir()
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True)
+    assert result.log_csv() == (out / "log.csv").read_text()
+    # The formation changes the air after every re-aim: the same run without it goes elsewhere.
+    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1, cfd=cfd).log_csv()
+    # Only in the CFD's air, in both front ends.
+    with pytest.raises(ValueError, match="air_formation"):
+        airtwin.run_scenario(str(scenario), 1, air="model", air_formation=True)
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-formation", "--out",
+                                tmp_path / "bad")
+    assert status != 0 and "--air-formation needs --air cfd" in stderr
+
+
 def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(LINE).read().replace("kind: path", "kind: paths"))
