@@ -108,6 +108,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   }
   j["exchanges"] = exchanges;
   j["provisional"] = r.provisional;
+  j["withdrawn"] = r.withdrawn;
   j["joint_p_value"] = num(r.joint_p_value);
   j["baseline_end_mape_all"] = num(r.baseline_end_mape_all);
   j["baseline_path_error"] = num(r.baseline_path_error);
@@ -239,7 +240,14 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           "rule adds the candidate in the first round; none in " +
           fixed(100.0 * r.none_frequency.front(), 0) + " %.\n\n";
   }
-  if (r.found.empty()) {
+  if (r.found.empty() && !r.withdrawn.empty()) {
+    std::string names;
+    for (const std::string& w : r.withdrawn) names += (names.empty() ? "" : ", ") + w;
+    md += "**None**: " + names +
+          " passed the rule against the model with an ordinary static friction fitted, but the "
+          "extended model as written is worse than the nominal one on the held-out windows (see "
+          "the notes), so it is withdrawn.\n\n";
+  } else if (r.found.empty()) {
     md +=
         "**None** of the candidates explains the discrepancy better than chance: what remains "
         "is scatter (e.g. turbulence), not a missing cause.\n\n";
