@@ -225,7 +225,7 @@ struct DiscrepancyReport {
   /// (its reference), withdrawn because the extended model as written (without that friction)
   /// is worse on a held-out figure than the nominal model: never a cause beside a worse figure.
   std::vector<std::string> withdrawn;
-  ModelExtensions extensions;      ///< fitted jointly over the found causes
+  ModelExtensions extensions;  ///< fitted jointly over the found causes
   /// Per found cause, a 95 % bootstrap interval of each typed parameter (catalogue order).
   std::map<std::string, std::vector<ParameterRange>> intervals;
   /// The ordinary static friction (static / kinetic, within 1 + negligible_size("stiction"))
