@@ -12,8 +12,9 @@
 #                  scenario's success count must reach its floor (below)
 #   physical       scripts/physical_twin_closed_loop.sh over seeds 1-P (default 10): the
 #                  paper's pipeline on the physical twin (CFD air, physical drag, eq. (8)
-#                  identified from the twin, the paper's CEM settings); floors: today's rates
-#                  less one run in ten (docs/twin.md, "Closed loop in the physical twin")
+#                  identified from the twin, the paper's CEM settings), then the same with the
+#                  wall jet's formation planning with that model; floors: today's rates less
+#                  one run in ten (docs/twin.md, "Closed loop in the physical twin")
 #   gain           (with --gain) scripts/closed_loop_gain.sh: every catalogue effect hidden in
 #                  the twin, found, and the octagon batch planned with and without the extension
 # Writes OUT/summary.md (default results/acceptance/) with the figures and the stage times;
@@ -73,6 +74,12 @@ floor_of() {
     square_physical) echo 0.5 ;;
     letter_A_physical) echo 0.1 ;;
     octagon_physical) echo 0.5 ;;
+    # With the wall jet's formation (--formation, the model identified without it): line 10,
+    # square 8, letter A 6, octagon 8 of 10, less one run in ten.
+    line_physical_formation) echo 0.9 ;;
+    square_physical_formation) echo 0.7 ;;
+    letter_A_physical_formation) echo 0.5 ;;
+    octagon_physical_formation) echo 0.7 ;;
   esac
 }
 scenarios="line square letter_A octagon aggregation sorting"
@@ -169,9 +176,17 @@ sweep() {
 }
 
 physical() {
+  local status=0
   bash scripts/physical_twin_closed_loop.sh --seeds "$physical_seeds" --out "$out/physical" \
     > "$out/physical.txt" || return 1
-  check_report "$out/physical/batch" _physical
+  check_report "$out/physical/batch" _physical || status=1
+  # The same twin with the wall jet's formation, planning with the model identified without it
+  # (its own identification at the paper's lambda keeps -c v alone: docs/twin.md).
+  bash scripts/physical_twin_closed_loop.sh --seeds "$physical_seeds" --formation \
+    --model "$out/physical/tracer_model.json" --out "$out/physical_formation" \
+    > "$out/physical_formation.txt" || return 1
+  check_report "$out/physical_formation/batch" _physical_formation || status=1
+  return $status
 }
 
 gain_stage() {
