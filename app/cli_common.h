@@ -74,6 +74,8 @@ struct AirFlags {
   std::vector<std::string> object_physics;
   /// --air-formation: the wall jet's formation from the CFD's pulses (sim/air_transport.h).
   bool formation = false;
+  /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
+  std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics and --air-formation

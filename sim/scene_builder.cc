@@ -447,8 +447,8 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
   std::ostringstream s;
   s << "<mujoco model=\"airtwin\">\n"
     << "<compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
-    << "<option timestep=\"" << num(params.timestep_s)
-    << "\" integrator=\"Euler\" cone=\"elliptic\" impratio=\""
+    << "<option timestep=\"" << num(params.timestep_s) << "\" integrator=\""
+    << (params.implicit_integrator ? "implicit" : "Euler") << "\" cone=\"elliptic\" impratio=\""
     << num(params.friction_impedance_ratio) << "\" gravity=\"" << num(gravity.x()) << ' '
     << num(gravity.y()) << ' ' << num(gravity.z()) << "\"/>\n"
     << "<size njmax=\"" << njmax << "\" nconmax=\"" << nconmax << "\"/>\n"
@@ -542,6 +542,11 @@ void index_scene(BuiltScene& scene, const SceneSpec& spec, const SceneParameters
     fail("option timestep is " + num(m->opt.timestep) + " s",
          num(params.timestep_s) +
              " s, the twin's step (its servo, delay and camera clocks count in steps)");
+  }
+  // A scene file keeps its own integrator; asked for the implicit one, the file must have it.
+  if (params.implicit_integrator && m->opt.integrator != mjINT_IMPLICIT) {
+    fail("option integrator is not implicit",
+         "integrator=\"implicit\" in its <option>, as the scene parameters ask");
   }
   // The rig's joints, set from the servo model every step, and the renderers' camera.
   for (const std::string joint : {"nozzle_pan", "nozzle_tilt"}) {
