@@ -78,11 +78,12 @@ struct AirFlags {
   std::string integrator = "euler";
 };
 
-/// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics and --air-formation
-/// to `sub`.
+/// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
+/// euler|implicit and --air-formation to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
-/// UsageError naming --air, --cfd or --drag for a value none of them takes. Reads no file.
+/// UsageError naming --air, --cfd, --drag, --integrator or --air-formation for a value none of
+/// them takes. Reads no file.
 void check_air_flags(const AirFlags& flags);
 
 /// Checks the flags (check_air_flags), then sets twin->cfd_air: the CFD cases of --cfd's folder

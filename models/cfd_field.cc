@@ -21,16 +21,8 @@ using Json = nlohmann::json;
 
 constexpr const char* kFormat = "airtwin-cfd-floor 1";
 
-const Json& member(const Json& j, const std::string& key, const std::string& where) {
-  return json_member(j, key, where);
-}
-
-double number(const Json& j, const std::string& key, const std::string& where) {
-  return json_number(j, key, where);
-}
-
 long count(const Json& j, const std::string& key, const std::string& where) {
-  const Json& v = member(j, key, where);
+  const Json& v = json_member(j, key, where);
   if (!v.is_number_integer() || v.get<long>() < 2) {
     throw InputError(where + ": field '" + key + "' must be an integer >= 2");
   }
@@ -43,39 +35,39 @@ CfdCase CfdCase::read(const std::string& header_path) {
   static_assert(std::endian::native == std::endian::little, "the CFD data are little-endian");
   const Json h = read_json_file(header_path);
   const std::string& where = header_path;
-  const Json& format = member(h, "format", where);
+  const Json& format = json_member(h, "format", where);
   if (!format.is_string() || format.get<std::string>() != kFormat) {
     throw InputError(where + ": format: expected \"" + std::string(kFormat) + "\"");
   }
   CfdCase c;
-  c.name_ = member(h, "case", where).is_string() ? h["case"].get<std::string>() : "";
-  const double tilt_deg = number(h, "tilt_deg", where);
+  c.name_ = json_member(h, "case", where).is_string() ? h["case"].get<std::string>() : "";
+  const double tilt_deg = json_number(h, "tilt_deg", where);
   if (!(tilt_deg >= 0.0 && tilt_deg < 90.0)) {
     throw InputError(where + ": tilt_deg must be in [0, 90), got " + std::to_string(tilt_deg));
   }
   c.tilt_rad_ = deg_to_rad(tilt_deg);
-  c.held_out_ = member(h, "held_out", where).is_boolean() && h["held_out"].get<bool>();
-  c.mesh_level_ = static_cast<int>(number(h, "mesh_level", where));
-  c.inlet_d_m_ = number(member(h, "inlet", where), "diameter_m", where + ": inlet");
-  const Json& s = member(h, "stagnation_point_s_m", where);
+  c.held_out_ = json_member(h, "held_out", where).is_boolean() && h["held_out"].get<bool>();
+  c.mesh_level_ = static_cast<int>(json_number(h, "mesh_level", where));
+  c.inlet_d_m_ = json_number(json_member(h, "inlet", where), "diameter_m", where + ": inlet");
+  const Json& s = json_member(h, "stagnation_point_s_m", where);
   if (!s.is_array() || s.size() != 2 || !s[0].is_number()) {
     throw InputError(where + ": stagnation_point_s_m must be [x, y] in metres");
   }
   c.s_x_m_ = s[0].get<double>();
-  const Json& ambient = member(h, "ambient", where);
-  c.k_ambient_ = number(ambient, "k_m2_s2", where + ": ambient");
-  c.epsilon_ambient_ = number(ambient, "epsilon_m2_s3", where + ": ambient");
+  const Json& ambient = json_member(h, "ambient", where);
+  c.k_ambient_ = json_number(ambient, "k_m2_s2", where + ": ambient");
+  c.epsilon_ambient_ = json_number(ambient, "epsilon_m2_s3", where + ": ambient");
 
   const std::string gw = where + ": grid";
-  const Json& g = member(h, "grid", where);
-  c.x0_m_ = number(g, "x0_m", gw);
-  c.dx_m_ = number(g, "dx_m", gw);
+  const Json& g = json_member(h, "grid", where);
+  c.x0_m_ = json_number(g, "x0_m", gw);
+  c.dx_m_ = json_number(g, "dx_m", gw);
   c.nx_ = count(g, "nx", gw);
-  c.y0_m_ = number(g, "y0_m", gw);
-  c.dy_m_ = number(g, "dy_m", gw);
+  c.y0_m_ = json_number(g, "y0_m", gw);
+  c.dy_m_ = json_number(g, "dy_m", gw);
   c.ny_ = count(g, "ny", gw);
   if (!(c.dx_m_ > 0.0 && c.dy_m_ > 0.0)) throw InputError(gw + ": dx_m and dy_m must be > 0");
-  for (const Json& z : member(g, "heights_m", gw)) {
+  for (const Json& z : json_member(g, "heights_m", gw)) {
     if (!z.is_number() || !(z.get<double>() > 0.0)) {
       throw InputError(gw + ": heights_m must be positive numbers");
     }
@@ -84,7 +76,7 @@ CfdCase CfdCase::read(const std::string& header_path) {
   if (c.heights_m_.empty() || !std::is_sorted(c.heights_m_.begin(), c.heights_m_.end())) {
     throw InputError(gw + ": heights_m must be a non-empty increasing list");
   }
-  const Json& fields = member(h, "fields", where);
+  const Json& fields = json_member(h, "fields", where);
   std::map<std::string, int> index;
   for (size_t i = 0; i < fields.size(); ++i) {
     if (fields[i].is_string()) index[fields[i].get<std::string>()] = static_cast<int>(i);
@@ -100,14 +92,14 @@ CfdCase CfdCase::read(const std::string& header_path) {
   c.uy_ = index["uy"];
   c.k_ = index["k"];
   c.epsilon_ = index["epsilon"];
-  const Json& dtype = member(h, "dtype", where);
-  const Json& order = member(h, "byte_order", where);
+  const Json& dtype = json_member(h, "dtype", where);
+  const Json& order = json_member(h, "byte_order", where);
   if (dtype != "float32" || order != "little") {
     throw InputError(where + ": expected dtype float32 and byte_order little");
   }
 
   // The data: [height][field][iy][ix] float32, little-endian.
-  const Json& file = member(h, "data_file", where);
+  const Json& file = json_member(h, "data_file", where);
   if (!file.is_string()) throw InputError(where + ": data_file must be a file name");
   const std::string data_path =
       (fs::path(header_path).parent_path() / file.get<std::string>()).string();

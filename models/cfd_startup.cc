@@ -15,10 +15,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-double number_field(const Json& j, const char* key, const std::string& where) {
-  return json_number(j, key, where);
-}
-
 }  // namespace
 
 CfdStartup::CfdStartup(double transit_s, std::vector<double> r_m, std::vector<double> arrival_s)
@@ -60,9 +56,9 @@ CfdStartup CfdStartup::read(const std::string& path) {
   for (size_t i = 0; i < figures.at("axis").size(); ++i) {
     const Json& e = figures.at("axis")[i];
     const std::string where = path + ": figures.axis[" + std::to_string(i) + "]";
-    const double z = number_field(e, "z_m", where);
+    const double z = json_number(e, "z_m", where);
     if (!e.contains("arrival_s") || e.at("arrival_s").is_null()) continue;
-    const double t = number_field(e, "arrival_s", where);
+    const double t = json_number(e, "arrival_s", where);
     if (z < lowest_z) {
       lowest_z = z;
       transit = t;
@@ -73,15 +69,15 @@ CfdStartup CfdStartup::read(const std::string& path) {
   double z_floor = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < figures.at("floor").size(); ++i) {
     const std::string where = path + ": figures.floor[" + std::to_string(i) + "]";
-    z_floor = std::min(z_floor, number_field(figures.at("floor")[i], "height_m", where));
+    z_floor = std::min(z_floor, json_number(figures.at("floor")[i], "height_m", where));
   }
   std::vector<std::pair<double, double>> arrivals;
   for (size_t i = 0; i < figures.at("floor").size(); ++i) {
     const Json& e = figures.at("floor")[i];
     const std::string where = path + ": figures.floor[" + std::to_string(i) + "]";
-    if (number_field(e, "height_m", where) != z_floor) continue;
+    if (json_number(e, "height_m", where) != z_floor) continue;
     if (!e.contains("arrival_s") || e.at("arrival_s").is_null()) continue;
-    arrivals.emplace_back(number_field(e, "r_m", where), number_field(e, "arrival_s", where));
+    arrivals.emplace_back(json_number(e, "r_m", where), json_number(e, "arrival_s", where));
   }
   std::sort(arrivals.begin(), arrivals.end());
   std::vector<double> r, t;

@@ -18,10 +18,6 @@ namespace {
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-double number_field(const Json& j, const char* key, const std::string& where) {
-  return json_number(j, key, where);
-}
-
 // Sum of squared misfits of 1 - exp(-T / tau) at one distance.
 double misfit(double tau_s, const std::vector<std::pair<double, double>>& pulses) {
   double sum = 0.0;
@@ -62,10 +58,10 @@ double fit_tau(const std::vector<std::pair<double, double>>& pulses) {
 CfdPulse CfdPulse::read(const std::string& path) {
   const Json j = read_json_file(path);
   CfdPulse p;
-  p.pulse_s = number_field(j, "pulse_s", path);
-  p.valve_s = number_field(j, "valve_opening_s", path);
-  const double end_s = number_field(j, "end_time_s", path);
-  const double probe_s = number_field(j, "probe_interval_s", path);
+  p.pulse_s = json_number(j, "pulse_s", path);
+  p.valve_s = json_number(j, "valve_opening_s", path);
+  const double end_s = json_number(j, "end_time_s", path);
+  const double probe_s = json_number(j, "probe_interval_s", path);
   if (!(p.pulse_s > p.valve_s && p.valve_s >= 0.0 && end_s > p.pulse_s && probe_s > 0.0)) {
     throw InputError(path +
                      ": expected 0 <= valve_opening_s < pulse_s < end_time_s and "
@@ -79,7 +75,7 @@ CfdPulse CfdPulse::read(const std::string& path) {
   double z_floor = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < floor.size(); ++i) {
     const std::string where = path + ": figures.floor[" + std::to_string(i) + "]";
-    z_floor = std::min(z_floor, number_field(floor[i], "height_m", where));
+    z_floor = std::min(z_floor, json_number(floor[i], "height_m", where));
   }
   // (r, peak fraction, peak time) at the lowest height, outward.
   struct Probe {
@@ -89,12 +85,12 @@ CfdPulse CfdPulse::read(const std::string& path) {
   for (size_t i = 0; i < floor.size(); ++i) {
     const Json& e = floor[i];
     const std::string where = path + ": figures.floor[" + std::to_string(i) + "]";
-    if (number_field(e, "height_m", where) != z_floor) continue;
-    const double r = number_field(e, "r_m", where);
+    if (json_number(e, "height_m", where) != z_floor) continue;
+    const double r = json_number(e, "r_m", where);
     // No fraction where the steady air is too weak to divide by (at s).
     if (!e.contains("peak_fraction") || e.at("peak_fraction").is_null()) continue;
     probes.push_back(
-        {r, number_field(e, "peak_fraction", where), number_field(e, "peak_t_s", where)});
+        {r, json_number(e, "peak_fraction", where), json_number(e, "peak_t_s", where)});
   }
   std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) { return a.r < b.r; });
   for (const Probe& q : probes) {
