@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "common/errors.h"
@@ -85,6 +86,53 @@ TEST(AirTransport, APointFeelsTheNewestOrientationWhoseAirHasReachedIt) {
   EXPECT_EQ(t.reached_steps({0.0, 0.0}), 0);  // at s: at once
   // Beyond the history's reach: the oldest kept.
   EXPECT_EQ(t.reached_steps({50.0, 0.0}), 400);
+}
+
+// The search against its definition, the smallest k with lag_steps(|p - s_k|) <= k, by brute
+// force over a seeded program of holds (runs of one s) and slews (a new s every step), wherever
+// the search starts (the box around the kept s). The reach is kept on a 1 mm grid of r, so the
+// definition is read at |p - s_k| rounded down to the millimetre.
+TEST(AirTransport, TheReachSearchFindsWhatTheDefinitionFindsOverHoldsAndSlews) {
+  AirTransportParameters p;
+  p.front_speed_mps = 1.3;
+  p.max_lag_s = 0.6;  // 241 orientations kept
+  const Eigen::Vector2d s0(0.2, -0.1);
+  AirTransport t(p, kDt, {0.0, 0.0}, nullptr, nullptr, s0);
+  const int last = static_cast<int>(std::ceil(p.max_lag_s / kDt));
+  std::vector<Eigen::Vector2d> history(static_cast<size_t>(last + 1), s0);  // newest first
+  std::mt19937 rng(4242);
+  std::uniform_real_distribution<double> pos(-0.8, 0.8);
+  std::uniform_int_distribution<int> hold(1, 300), slew(1, 60);
+  Eigen::Vector2d s = s0;
+  int checked = 0, older = 0;
+  for (int segment = 0; segment < 40; ++segment) {
+    const bool holding = segment % 2 == 0;
+    const int steps = holding ? hold(rng) : slew(rng);
+    const Eigen::Vector2d target(pos(rng), pos(rng));
+    for (int i = 0; i < steps; ++i) {
+      if (!holding) s += (target - s) / static_cast<double>(steps - i);
+      t.push({0.0, 0.0}, s);
+      history.insert(history.begin(), s);
+      history.pop_back();
+      if (i % 7 != 0) continue;
+      for (int q = 0; q < 10; ++q) {
+        const Eigen::Vector2d x(pos(rng), pos(rng));
+        int expected = last;
+        for (int k = 0; k < last; ++k) {
+          const double r_mm = std::floor((x - history[static_cast<size_t>(k)]).norm() * 1e3);
+          if (t.lag_steps(r_mm * 1e-3) <= k) {
+            expected = k;
+            break;
+          }
+        }
+        ASSERT_EQ(t.reached_steps(x), expected) << "segment " << segment << " step " << i;
+        ++checked;
+        if (expected > 0 && expected < last) ++older;
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(older, checked / 4);  // most answers are neither the present nor the oldest
 }
 
 TEST(AirTransport, BadParametersNameTheField) {
