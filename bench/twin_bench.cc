@@ -30,7 +30,8 @@
 //   BM_TwinStep/tracers_25_cfd_formed: the same with the wall jet's formation (--air-formation).
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
-// 25-tracer scene), ratio_free (twin / free-running bare step rate).
+// 25-tracer scene), ratio_free (twin / free-running bare step rate), solver_iter and
+// bare_solver_iter (MuJoCo's constraint-solver iterations per step, twin and mirrored bare).
 
 #include <benchmark/benchmark.h>
 
@@ -160,7 +161,7 @@ void run(benchmark::State& state, const SceneSpec& spec,
   for (size_t i = 0; i < twin.object_count(); ++i) objects.push_back(twin.object(i));
   AirForces air(params.air, params.scene, objects, 7, timestep_s);
   double twin_s = 0.0, bare_s = 0.0, free_s = 0.0, air_s = 0.0;
-  int64_t steps = 0;
+  int64_t steps = 0, twin_iter = 0, bare_iter = 0;
   for (auto _ : state) {
     // Twin, step by step, each step mirrored by a bare step from the same state.
     for (int k = 0; k < kChunkSteps; ++k) {
@@ -174,6 +175,8 @@ void run(benchmark::State& state, const SceneSpec& spec,
       const auto t2 = Clock::now();
       twin_s += seconds(t0, t1);
       bare_s += seconds(t1, t2);
+      twin_iter += twin.data()->solver_iter;
+      bare_iter += bare->solver_iter;
       // The air alone on the state mj_step left (positions and kinematics are current).
       const NozzleOrientation e = twin.effective_orientation();
       std::optional<CfdOrientedField> cfd_air;
@@ -209,6 +212,10 @@ void run(benchmark::State& state, const SceneSpec& spec,
   state.counters["ratio"] = bare_s / twin_s;
   state.counters["ratio_free"] = free_s / twin_s;
   state.counters["air_share"] = air_s / twin_s;
+  // The constraint solver's iterations per step, twin and mirrored bare: the air's forces change
+  // the contact problem MuJoCo solves, which costs beside the callback itself.
+  state.counters["solver_iter"] = static_cast<double>(twin_iter) / n;
+  state.counters["bare_solver_iter"] = static_cast<double>(bare_iter) / n;
 }
 
 void BM_TwinStep_tracers_25(benchmark::State& state) { run(state, tracers_25()); }
