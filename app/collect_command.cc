@@ -38,6 +38,7 @@ struct CollectArgs {
   std::string calib;
   std::string noise = "none";
   std::string truth_out;
+  std::string protocol = "reaim";
 };
 
 // The camera model of --vision: --calib's, or the twin's camera calibrated from rendered
@@ -84,6 +85,7 @@ void run_collect(CollectArgs a) {
     throw UsageError("--calib, --noise and --truth-out need --vision");
   }
   parse_noise(a.noise);
+  with_flags(kCollectionFlags, [&] { o.protocol = parse_collection_protocol(a.protocol); });
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
@@ -136,6 +138,13 @@ void add_collect_command(CLI::App& app) {
          "--lead-in", o.lead_in_s,
          "Seconds recorded before the re-aim, at the idle command (t < 0): the data then\n"
          "show the command change, which 'airtwin discrepancy' needs to tell a response delay")
+      ->capture_default_str();
+  sub->add_option(
+         "--protocol", args->protocol,
+         "How each trial starts: reaim (Appendix D: the nozzle turns from idle at t = 0),\n"
+         "placed (the object is released at t = 0 into the trial's steady air: the nozzle\n"
+         "never moves, no lead-in) or mixed (trials alternate, even re-aimed, odd placed): the\n"
+         "starts from rest that 'airtwin discrepancy' needs to tell stiction from a late air")
       ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")

@@ -14,6 +14,35 @@
 
 namespace airtwin {
 
+namespace {
+
+struct ProtocolEntry {
+  CollectionProtocol id;
+  const char* name;
+};
+constexpr ProtocolEntry kProtocols[] = {{CollectionProtocol::kReaim, "reaim"},
+                                        {CollectionProtocol::kPlaced, "placed"},
+                                        {CollectionProtocol::kMixed, "mixed"}};
+
+}  // namespace
+
+const char* collection_protocol_name(CollectionProtocol p) {
+  for (const ProtocolEntry& e : kProtocols) {
+    if (e.id == p) return e.name;
+  }
+  AIRTWIN_DEMAND(false);
+  return "";
+}
+
+CollectionProtocol parse_collection_protocol(const std::string& name) {
+  std::string names;
+  for (const ProtocolEntry& e : kProtocols) {
+    if (name == e.name) return e.id;
+    names += (names.empty() ? "" : ", ") + std::string(e.name);
+  }
+  throw FieldError("collection.protocol", "expected one of " + names + ", got '" + name + "'");
+}
+
 void CollectionOptions::validate() const {
   if (object != "tracer" && object != "cotton") {
     throw FieldError("collection.object", "expected tracer or cotton, got '" + object + "'");
@@ -40,6 +69,11 @@ void CollectionOptions::validate() const {
   }
   if (!(lead_in_s >= 0 && lead_in_s <= wait_s)) {
     throw FieldError("collection.lead_in_s", "expected seconds in [0, wait_s]");
+  }
+  if (lead_in_s > 0 && protocol == CollectionProtocol::kPlaced) {
+    throw FieldError("collection.lead_in_s",
+                     "placed trials are recorded from their release: a lead-in needs re-aims "
+                     "(protocol reaim or mixed)");
   }
   if (!(record_s > 0 && record_s <= 600)) {
     throw FieldError("collection.record_s", "expected seconds in (0, 600]");
@@ -77,6 +111,8 @@ std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
         }
       }
       trial.twin_seed = static_cast<uint64_t>(rs.uniform() * 0x1.0p53);
+      trial.placed = o.protocol == CollectionProtocol::kPlaced ||
+                     (o.protocol == CollectionProtocol::kMixed && trial.index % 2 == 1);
       plan.push_back(trial);
     }
   }
@@ -89,9 +125,24 @@ void run_collection_trial(const CollectionTrial& trial, const CollectionOptions&
   spec.source = "collection trial " + std::to_string(trial.index);
   spec.objects.push_back({std::to_string(trial.index), o.object, trial.start_W, std::nullopt});
   TwinParameters params = o.twin;
-  params.initial_orientation = o.idle;  // (i) placed with the nozzle idle, jet off
+  params.initial_orientation = trial.placed ? trial.target : o.idle;  // (i) placed, jet off
   params.jet_on_at_start = false;
   Twin twin(spec, params, field, trial.twin_seed);
+  const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
+
+  if (trial.placed) {
+    // Settled with the jet off under the still nozzle, then released into its steady air.
+    twin.advance(o.wait_s);
+    const double t0 = twin.time();
+    twin.set_jet(true);
+    twin.settle_jet();
+    for (int k = 0; k <= frames; ++k) {
+      const double t = k / o.frame_rate_hz;
+      twin.advance_to(t0 + t);
+      record(twin, k, t, trial.target);
+    }
+    return;
+  }
 
   twin.set_jet(true);  // (ii) jet on, wait for the steady state
   const int lead_frames = static_cast<int>(std::floor(o.lead_in_s * o.frame_rate_hz + 1e-9));
@@ -107,7 +158,6 @@ void run_collection_trial(const CollectionTrial& trial, const CollectionOptions&
   }
   twin.advance_to(t0);
   twin.command_nozzle(trial.target);  // (iii) re-aim and record
-  const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
   for (int k = 0; k <= frames; ++k) {
     const double t = k / o.frame_rate_hz;
     twin.advance_to(t0 + t);

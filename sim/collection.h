@@ -11,6 +11,14 @@
 // every row, positions from the twin's truth (runs/camera_collection.h records the same trials
 // through the rendered camera and the detection pipeline, as the rig did).
 //
+// A second protocol releases the object at rest in air that is already steady: the nozzle rests
+// at the trial's orientation with the jet off while the object settles, then the jet is on at its
+// steady state from the release (t = 0) on, as when a hand lets go of an object held in a running
+// field. Nothing moves the nozzle, so what keeps an object from starting is its friction and the
+// air alone: static friction above kinetic acts there, a nozzle's late response cannot (the
+// discrepancy analysis needs both kinds to tell stiction from a late or weaker air;
+// docs/discrepancy.md). `mixed` alternates the two, trial by trial.
+//
 // Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
 // the trial's index only, so a trial's data do not depend on the thread count or on other trials.
 
@@ -25,6 +33,18 @@
 #include "sim/twin.h"
 
 namespace airtwin {
+
+/// How each trial starts (the catalogue below names them).
+enum class CollectionProtocol {
+  kReaim,   ///< Appendix D: the nozzle turns from idle to the trial's orientation at t = 0
+  kPlaced,  ///< the object is released at t = 0 in the trial's steady air
+  kMixed,   ///< even trial indices re-aim, odd ones are placed
+};
+
+/// The protocol's name as typed: "reaim", "placed", "mixed".
+const char* collection_protocol_name(CollectionProtocol p);
+/// The protocol of that name; throws FieldError on "collection.protocol" naming the choices.
+CollectionProtocol parse_collection_protocol(const std::string& name);
 
 struct CollectionOptions {
   std::string object = "tracer";                               ///< "tracer" | "cotton"
@@ -42,6 +62,9 @@ struct CollectionOptions {
   /// the data show the command change and the nozzle's travel (the discrepancy analysis needs
   /// it to tell a response delay; models/nozzle_response.h). 0: none, as Appendix D.
   double lead_in_s = 0.0;
+  /// How the trials start; a lead-in applies to the re-aimed trials only (a placed trial is
+  /// recorded from its release).
+  CollectionProtocol protocol = CollectionProtocol::kReaim;
   double frame_rate_hz = 40.0;
   TwinParameters twin;  ///< the twin's physics (effects applied here)
   int threads = 1;      ///< twins run in parallel (0: one per core)
@@ -56,6 +79,7 @@ struct CollectionTrial {
   NozzleOrientation target;                           ///< the recorded orientation (rad)
   Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< where the object is placed (m)
   std::uint64_t twin_seed = 0;                        ///< turbulence and shape of this trial
+  bool placed = false;  ///< released in steady air instead of re-aimed at (the protocol's choice)
 };
 
 /// The trials: for each tilt in order, per_tilt trials with pan uniform in [-180, 180) deg and the

@@ -131,6 +131,10 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --tilts 0,abc --out x.csv", "--tilts");
   expect_usage_error("collect --per-tilt 0 --out x.csv", "--per-tilt");
   expect_usage_error("collect --wait -1 --out x.csv", "--wait");
+  expect_usage_error("collect --protocol dropped --out x.csv",
+                     "--protocol: expected one of reaim, placed, mixed, got 'dropped'");
+  expect_usage_error("collect --protocol placed --lead-in 0.5 --out x.csv",
+                     "--lead-in: placed trials are recorded from their release");
   expect_usage_error("collect --effect warp --out x.csv",
                      "--effect: effect 'warp': unknown effect 'warp'");
   expect_usage_error("collect --effect stiction:ratio=0.5 --out x.csv", "stiction.ratio");
