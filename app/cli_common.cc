@@ -109,6 +109,10 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
   sub->add_flag("--air-formation", flags.formation,
                 "With --air cfd: each object's air forms at the rate of the CFD's short pulses\n"
                 "(a swept jet's air arrives weakened; sim/air_transport.h, docs/twin.md)");
+  sub->add_option("--air-formation-time-scale", flags.formation_time_scale,
+                  "With --air-formation: the pulses' formation times times this, in (0, 10]\n"
+                  "(1: the CFD's; for measuring how results depend on them, docs/twin.md)")
+      ->capture_default_str();
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -126,6 +130,13 @@ void check_air_flags(const AirFlags& flags) {
   if (flags.air == "model" && flags.formation) {
     throw UsageError("--air-formation needs --air cfd");
   }
+  if (flags.formation_time_scale != 1.0 && !flags.formation) {
+    throw UsageError("--air-formation-time-scale needs --air-formation");
+  }
+  AirTransportParameters transport;
+  transport.formation_time_scale = flags.formation_time_scale;
+  with_flags({{"air_transport.formation_time_scale", "--air-formation-time-scale"}},
+             [&] { transport.validate(); });
 }
 
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
@@ -144,6 +155,7 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     return;
   }
   twin->air_transport.formation = flags.formation;
+  twin->air_transport.formation_time_scale = flags.formation_time_scale;
   // One copy per folder in the process: a batch builds many twins from the same cases.
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const CfdField>> loaded;
@@ -162,6 +174,9 @@ std::string air_identity(const AirFlags& flags) {
   std::string drag = ", drag " + flags.drag;
   for (const std::string& text : flags.object_physics) drag += ", " + text;
   if (flags.formation) drag += ", air formation";
+  if (flags.formation_time_scale != 1.0) {
+    drag += " x" + std::to_string(flags.formation_time_scale) + " time";
+  }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;
   std::vector<std::string> headers;

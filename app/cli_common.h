@@ -75,15 +75,18 @@ struct AirFlags {
   std::vector<std::string> object_physics;
   /// --air-formation: the wall jet's formation from the CFD's pulses (sim/air_transport.h).
   bool formation = false;
+  /// --air-formation-time-scale: AirTransportParameters::formation_time_scale (1: the CFD's).
+  double formation_time_scale = 1.0;
   /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
   std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
-/// euler|implicit and --air-formation to `sub`.
+/// euler|implicit, --air-formation and --air-formation-time-scale to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
-/// UsageError naming --air, --cfd, --drag, --integrator or --air-formation for a value none of
+/// UsageError naming --air, --cfd, --drag, --integrator, --air-formation or
+/// --air-formation-time-scale for a value none of
 /// them takes. Reads no file.
 void check_air_flags(const AirFlags& flags);
 

@@ -18,6 +18,11 @@ void AirTransportParameters::validate() const {
     throw FieldError("air_transport.max_lag_s",
                      "expected [0, 60] s, got " + std::to_string(max_lag_s));
   }
+  if (!(std::isfinite(formation_time_scale) && formation_time_scale > 0.0 &&
+        formation_time_scale <= 10.0)) {
+    throw FieldError("air_transport.formation_time_scale",
+                     "expected (0, 10], got " + std::to_string(formation_time_scale));
+  }
 }
 
 AirTransport::AirTransport(const AirTransportParameters& params, double timestep_s,
@@ -77,7 +82,11 @@ void AirTransport::push(const NozzleOrientation& effective, const Eigen::Vector2
 double AirTransport::lag_s(double r_m) const {
   if (!(r_m > 0.0)) return 0.0;
   const double lag = startup_ ? startup_->wall_jet_lag_s(r_m) : r_m / params_.front_speed_mps;
-  return formation_ ? std::max(0.0, lag - std::log(2.0) * formation_->time_s(r_m)) : lag;
+  return formation_ ? std::max(0.0, lag - std::log(2.0) * formation_time_s(r_m)) : lag;
+}
+
+double AirTransport::formation_time_s(double r_m) const {
+  return params_.formation_time_scale * formation_->time_s(r_m);
 }
 
 int AirTransport::lag_steps(double r_m) const {
@@ -114,7 +123,7 @@ int AirTransport::reached_steps(const Eigen::Vector2d& p_W) const {
 
 double AirTransport::formation_decay(double r_m) const {
   if (!forms()) return 0.0;
-  return std::exp(-timestep_s_ / formation_->time_s(std::max(0.0, r_m)));
+  return std::exp(-timestep_s_ / formation_time_s(std::max(0.0, r_m)));
 }
 
 const NozzleOrientation& AirTransport::at_lag(int steps) const {

@@ -67,9 +67,13 @@ struct AirTransportParameters {
   /// calibrated with it: with the drag calibrated without it, the Appendix D identification
   /// loses eq. (8)'s air term (docs/twin.md).
   bool formation = false;
+  /// With the formation: the pulses' tau(r) times this. 1 is the CFD's. URANS k-epsilon smears a
+  /// pulse's head (docs/cfd.md), so the true formation may be faster; this is for measuring how
+  /// the results depend on it, in (0, 10].
+  double formation_time_scale = 1.0;
   /// No lag: the floor pattern swings rigidly with the effective orientation.
   static AirTransportParameters rigid() { return {0.0, 0.0, false, false}; }
-  /// Throws InputError naming the field unless both are finite and in range.
+  /// Throws InputError naming the field unless every value is finite and in range.
   void validate() const;
 };
 
@@ -102,7 +106,8 @@ class AirTransport {
   /// True when the air forms over time (a formation is in use and the lag is on).
   bool forms() const { return formation_ != nullptr && enabled(); }
   /// With the formation, what is left after one step of a departure from the reached air at r
-  /// from s: exp(-dt / tau(r)); without it 0 (the reached air is felt at once).
+  /// from s: exp(-dt / tau(r)) (tau scaled by formation_time_scale); without it 0 (the reached
+  /// air is felt at once).
   double formation_decay(double r_m) const;
   /// The effective orientation `steps` steps ago (0: the present), clamped to the history.
   const NozzleOrientation& at_lag(int steps) const;
@@ -115,6 +120,8 @@ class AirTransport {
   int capacity_;  // orientations kept: max_lag_s / dt + 1
   // The lag (s) at r, with the formation's shortening.
   double lag_s(double r_m) const;
+  // The formation's time (s) at r: the pulses' tau scaled.
+  double formation_time_s(double r_m) const;
   std::vector<NozzleOrientation> ring_;
   std::vector<Eigen::Vector2d> s_ring_;  // each orientation's stagnation point
   // reach2_[k]: the squared distance within which air k steps old has arrived (infinite when

@@ -233,7 +233,7 @@ struct Formed {
   double r_m = 0.0;
   double command_s = 0.0;
 };
-Formed formed() {
+Formed formed(double time_scale = 1.0) {
   static const auto cfd =
       std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
   static const AirFieldModel model = AirFieldModel::with_default_table();
@@ -244,6 +244,7 @@ Formed formed() {
   p.scene.tracer.kinetic_friction = 20.0;  // held in place: the air alone changes
   p.cfd_air = cfd;
   p.air_transport.formation = true;
+  p.air_transport.formation_time_scale = time_scale;
   p.nozzle.max_speed_radps = 7000.0;
   p.nozzle.max_acceleration_radps2 = 1e8;
   p.initial_orientation = a;
@@ -273,26 +274,38 @@ Formed formed() {
 TEST(AirTransport, TheNewAirFormsAtTheCfdPulsesRateAndArrivesWithTheStartUp) {
   const CfdField cfd = CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd");
   ASSERT_NE(cfd.formation(), nullptr);
-  const Formed step = formed();
-  const double tau = cfd.formation()->time_s(step.r_m);
-  const double arrival = cfd.startup()->transit_s() + cfd.startup()->wall_jet_lag_s(step.r_m);
   auto first_above = [](const Formed& f, double level) {
     for (size_t i = 0; i < f.g.size(); ++i) {
       if (f.g[i] >= level) return f.t_s[i];
     }
     return 1e9;
   };
-  const double half = first_above(step, 0.5), three_quarters = first_above(step, 0.75);
-  std::printf(
-      "step at r %.3f m: half at %.3f s (start-up's arrival %.3f s), 3/4 %.3f s later "
-      "(tau ln 2 = %.3f s)\n",
-      step.r_m, half, arrival, three_quarters - half, tau * std::log(2.0));
-  // Half the new air when the start-up's front is at half: the lag less ln 2 tau, plus the
-  // first-order rise's ln 2 tau (the lag's rounding to a 2.5 ms step and the sampling: 3 steps).
-  EXPECT_NEAR(half, arrival, 0.0075);
-  // From a half to three quarters: one more ln 2 tau.
-  EXPECT_NEAR(three_quarters - half, tau * std::log(2.0), 0.0075);
-  EXPECT_NEAR(step.g.back(), 1.0, 1e-3);  // then the new air whole
+  // The pulses' formation, and the same at half their time (formation_time_scale 0.5).
+  for (double scale : {1.0, 0.5}) {
+    const Formed step = formed(scale);
+    const double tau = scale * cfd.formation()->time_s(step.r_m);
+    const double arrival = cfd.startup()->transit_s() + cfd.startup()->wall_jet_lag_s(step.r_m);
+    const double half = first_above(step, 0.5), three_quarters = first_above(step, 0.75);
+    std::printf(
+        "tau x%.1f, step at r %.3f m: half at %.3f s (start-up's arrival %.3f s), 3/4 %.3f s "
+        "later (tau ln 2 = %.3f s)\n",
+        scale, step.r_m, half, arrival, three_quarters - half, tau * std::log(2.0));
+    // Half the new air when the start-up's front is at half: the lag less ln 2 tau, plus the
+    // first-order rise's ln 2 tau (the lag's rounding to a 2.5 ms step and the sampling: 3
+    // steps).
+    EXPECT_NEAR(half, arrival, 0.0075);
+    // From a half to three quarters: one more ln 2 tau.
+    EXPECT_NEAR(three_quarters - half, tau * std::log(2.0), 0.0075);
+    EXPECT_NEAR(step.g.back(), 1.0, 1e-3);  // then the new air whole
+  }
+  AirTransportParameters bad;
+  bad.formation_time_scale = 0.0;
+  try {
+    bad.validate();
+    FAIL() << "no error";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.field(), "air_transport.formation_time_scale");
+  }
 }
 
 }  // namespace
