@@ -41,6 +41,17 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
     }
     params.air_transport.formation = true;
   }
+  if (setup.air_formation_time_scale != 1.0) {
+    if (!setup.air_formation) {
+      throw FieldError("air_formation_time_scale", "needs the formation (air_formation True)");
+    }
+    params.air_transport.formation_time_scale = setup.air_formation_time_scale;
+    params.air_transport.validate();
+  }
+  if (setup.integrator != "euler" && setup.integrator != "implicit") {
+    throw FieldError("integrator", "expected euler or implicit, got '" + setup.integrator + "'");
+  }
+  params.scene.implicit_integrator = setup.integrator == "implicit";
   // The objects' drag law, then their physical parameters, then the effects.
   apply_drag_law(setup.drag, &params.scene);
   for (const std::string& text : setup.object_physics) apply_object_physics(text, &params.scene);

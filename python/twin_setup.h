@@ -1,8 +1,9 @@
 #pragma once
 // The twin's set-up as Python callers give it, for Twin and the environment alike: the options
 // `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
-// --mjcf and --air-formation, validated by the libraries that own them, so a bad value raises
-// ValueError with the library's message (the field or the effect named, never a flag).
+// --mjcf, --air-formation, --air-formation-time-scale and --integrator, validated by the libraries
+// that own them, so a bad value raises ValueError with the library's message (the field or the
+// effect named, never a flag).
 
 #include <memory>
 #include <string>
@@ -26,6 +27,10 @@ struct TwinSetup {
   std::string mjcf;                         ///< a user's MJCF scene; "": built
   /// The wall jet's formation in the CFD's air (--air-formation, sim/air_transport.h).
   bool air_formation = false;
+  /// With air_formation: the pulses' formation times times this (--air-formation-time-scale).
+  double air_formation_time_scale = 1.0;
+  /// MuJoCo's integrator for the built scene: "euler" | "implicit" (--integrator).
+  std::string integrator = "euler";
 };
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must

@@ -74,6 +74,32 @@ def test_a_run_with_the_air_formation_equals_the_cli_run(tmp_path):
     assert status != 0 and "--air-formation needs --air cfd" in stderr
 
 
+def test_the_integrator_and_the_formation_time_scale_equal_the_cli_run(tmp_path):
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--air-formation",
+                                "--air-formation-time-scale", 0.5, "--integrator", "implicit",
+                                "--quiet", "--out", out)
+    assert status == 0, stderr
+    cfd = airtwin.CfdField.read_dir()
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True,
+                                  air_formation_time_scale=0.5, integrator="implicit")
+    assert result.log_csv() == (out / "log.csv").read_text()
+    # Each changes the run: the same without either goes elsewhere.
+    assert result.log_csv() != airtwin.run_scenario(
+        str(scenario), 1, cfd=cfd, air_formation=True, integrator="implicit").log_csv()
+    assert result.log_csv() != airtwin.run_scenario(
+        str(scenario), 1, cfd=cfd, air_formation=True, air_formation_time_scale=0.5).log_csv()
+    with pytest.raises(ValueError, match="integrator: expected euler or implicit, got 'rk4'"):
+        airtwin.run_scenario(str(scenario), 1, integrator="rk4")
+    with pytest.raises(ValueError, match="air_formation_time_scale"):
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=0.5)
+    with pytest.raises(ValueError, match="formation_time_scale"):
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True,
+                             air_formation_time_scale=-1.0)
+
+
 def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(LINE).read().replace("kind: path", "kind: paths"))
