@@ -304,9 +304,8 @@ std::vector<BackwardCheck> backward_check(const Evaluator& ev, const std::vector
 // D's objects start, and the first round cannot tell them apart while a delay and a slope are
 // still unmodelled). With the later causes in the model, each such rival takes the cause's
 // place, the selection is refitted from there, and the exchange is kept when it lowers the
-// held-out cost (the criterion that chose among the round's causes) and the backward check then
-// keeps every cause. `rounds` and `entered` (the round each cause entered in) say who the rivals
-// are.
+// held-out cost and the backward check then keeps every cause. `rounds` and `entered` (the round
+// each cause entered in) say who the rivals are.
 std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size_t>& train,
                                      const std::vector<size_t>& held,
                                      const DecisionWindows& windows, const DecisionRule& rule,
@@ -436,7 +435,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
     if (round == 0) report.candidates = results;
     const CandidateResult* best = nullptr;
     for (const CandidateResult& c : results) {
-      if (c.significant && (best == nullptr || c.heldout_cost < best->heldout_cost)) best = &c;
+      if (c.significant && (best == nullptr || c.delta_bic < best->delta_bic)) best = &c;
     }
     if (best == nullptr) {
       if (provisional) {

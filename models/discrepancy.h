@@ -29,7 +29,8 @@
 //        turbulence adds scatter that no extension removes, so nothing passes on data without a
 //        cause);
 //      - the fitted size exceeds the extension's negligible size (models/model_extensions.h).
-//    Among the causes of a round the one with the lowest held-out cost is added.
+//    Among the causes of a round the one the training windows support best (the lowest delta
+//    BIC) is added.
 //    Selection is forward: the best cause is added, the remaining extensions are refitted on top
 //    of it and tested against it, and so on, up to max_found; then backward: each cause found is
 //    tested against the model of the others refitted without it, and one the others make

@@ -61,8 +61,8 @@ std::vector<double> selection_frequencies(const WindowFigures& base,
     for (size_t c = 0; c < candidates.size(); ++c) {
       const Decision d =
           decide(base, *candidates[c].figures, candidates[c].k, candidates[c].relevant, w, rule);
-      if (d.significant && d.cost < best_cost) {
-        best_cost = d.cost;
+      if (d.significant && d.delta_bic < best_cost) {
+        best_cost = d.delta_bic;
         chosen = c;
       }
     }

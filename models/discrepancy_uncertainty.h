@@ -5,7 +5,7 @@
 // - Selection frequency: for each round of the forward selection, the fraction of
 //   kSelectionResamples resamples (training and held-out windows drawn with replacement) in which
 //   the decision rule (models/discrepancy_decision.h), reading each model's per-window figures,
-//   adds each candidate (significant, lowest held-out cost), and the fraction in which it adds
+//   adds each candidate (significant, lowest delta BIC), and the fraction in which it adds
 //   none. The fits are held as they are: the frequency says how much a decision rests on which
 //   windows happened to be recorded and held out.
 // - Parameter intervals: the found causes refitted jointly on kIntervalResamples resamples of the
