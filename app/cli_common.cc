@@ -10,6 +10,7 @@
 
 #include "common/csv.h"
 #include "common/errors.h"
+#include "common/text.h"
 #include "common/units.h"
 #include "models/cfd_field.h"
 #include "runs/batch_plan.h"
@@ -175,7 +176,7 @@ std::string air_identity(const AirFlags& flags) {
   for (const std::string& text : flags.object_physics) drag += ", " + text;
   if (flags.formation) drag += ", air formation";
   if (flags.formation_time_scale != 1.0) {
-    drag += " x" + std::to_string(flags.formation_time_scale) + " time";
+    drag += " (times x" + format_number(flags.formation_time_scale) + ")";
   }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;

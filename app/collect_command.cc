@@ -106,11 +106,13 @@ void run_collect(CollectArgs a) {
   std::string effect_list;
   for (const Effect& e : effects)
     effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
-  std::printf("collected %d %s trajectories (%d per tilt, seed %llu, %s air%s%s%s) into %s\n",
-              static_cast<int>(set.trajectories.size()), o.object.c_str(), o.per_tilt,
-              static_cast<unsigned long long>(o.seed), a.air.air.c_str(),
-              effects.empty() ? "" : ", effects ", effect_list.c_str(),
-              a.vision ? ", through the camera" : "", a.out.c_str());
+  std::printf(
+      "collected %d %s trajectories (%d per tilt, protocol %s, seed %llu, %s air%s%s%s) "
+      "into %s\n",
+      static_cast<int>(set.trajectories.size()), o.object.c_str(), o.per_tilt,
+      collection_protocol_name(o.protocol), static_cast<unsigned long long>(o.seed),
+      a.air.air.c_str(), effects.empty() ? "" : ", effects ", effect_list.c_str(),
+      a.vision ? ", through the camera" : "", a.out.c_str());
 }
 
 }  // namespace
@@ -143,8 +145,8 @@ void add_collect_command(CLI::App& app) {
          "--protocol", args->protocol,
          "How each trial starts: reaim (Appendix D: the nozzle turns from idle at t = 0),\n"
          "placed (the object is released at t = 0 into the trial's steady air: the nozzle\n"
-         "never moves, no lead-in) or mixed (trials alternate, even re-aimed, odd placed): the\n"
-         "starts from rest that 'airtwin discrepancy' needs to tell stiction from a late air")
+         "never moves, no lead-in) or mixed (trials alternate, even re-aimed, odd placed):\n"
+         "starts from rest where a late response of the nozzle plays no part")
       ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")

@@ -15,9 +15,9 @@
 // at the trial's orientation with the jet off while the object settles, then the jet is on at its
 // steady state from the release (t = 0) on, as when a hand lets go of an object held in a running
 // field. Nothing moves the nozzle, so what keeps an object from starting is its friction and the
-// air alone: static friction above kinetic acts there, a nozzle's late response cannot (the
-// discrepancy analysis needs both kinds to tell stiction from a late or weaker air;
-// docs/discrepancy.md). `mixed` alternates the two, trial by trial.
+// air alone: static friction above kinetic acts there, a nozzle's late response cannot (data
+// for telling stiction from a late air; at Appendix D's distances they do not separate it from
+// a weaker air by themselves, docs/discrepancy.md). `mixed` alternates the two, trial by trial.
 //
 // Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
 // the trial's index only, so a trial's data do not depend on the thread count or on other trials.

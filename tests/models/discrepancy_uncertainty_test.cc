@@ -1,6 +1,7 @@
 // Selection frequencies over bootstrap resamples, on hand-made per-window figures: a candidate
 // better in every window is chosen in every resample, one equal to the base in none, and of two
-// the one with the lower held-out cost; the same seed gives the same frequencies.
+// passing causes the one the training windows support best (the lower delta BIC), also when the
+// other has the lower held-out cost; the same seed gives the same frequencies.
 // (The parameter intervals need predictions: tests/models/discrepancy_test.cc.)
 
 #include "models/discrepancy_uncertainty.h"
@@ -32,11 +33,20 @@ TEST(DiscrepancyUncertainty, SelectionFrequenciesFollowTheRule) {
   EXPECT_EQ(f[0], 1.0);
   EXPECT_EQ(f[1], 0.0);
   EXPECT_EQ(f[2], 0.0);
-  // Two causes: the lower held-out cost wins every time.
+  // Two causes: the lower delta BIC wins every time.
   f = selection_frequencies(base, {{&half, 1, true}, {&third, 1, true}}, scale, informative, rule,
                             4, 0);
   EXPECT_EQ(f[0], 0.0);
   EXPECT_EQ(f[1], 1.0);
+  // The training's figures and the held-out ones disagree: the training's delta BIC decides,
+  // though the other candidate's held-out cost is lower.
+  WindowFigures train_better = third, held_better = half;
+  train_better.held = half.held;
+  held_better.held = third.held;
+  f = selection_frequencies(base, {{&train_better, 1, true}, {&held_better, 1, true}}, scale,
+                            informative, rule, 4, 0);
+  EXPECT_EQ(f[0], 1.0);
+  EXPECT_EQ(f[1], 0.0);
   // Nothing better than the base: none.
   f = selection_frequencies(base, {{&same, 1, true}}, scale, informative, rule, 4, 0);
   EXPECT_EQ(f[1], 1.0);
