@@ -11,6 +11,7 @@ void add_aim_command(CLI::App& app);        // desired stagnation point -> (pan,
 void add_fitfield_command(CLI::App& app);   // Appendix C: fit the coefficient table to grids
 void add_maketable_command(CLI::App& app);  // construct the default table from wall-jet physics
 void add_hotwire_command(CLI::App& app);    // Appendix A: a hot-wire campaign simulated from CFD
+void add_probe_command(CLI::App& app);      // the twin's moving air at fixed points over a program
 void add_identify_command(CLI::App& app);   // section IV: SINDy on trajectories -> model.json
 void add_collect_command(CLI::App& app);    // Appendix D protocol in the twin -> trajectory CSV
 void add_calibrate_dynamics_command(CLI::App& app);  // tune twin drag/friction to eq. (8)

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   airtwin::cli::add_fitfield_command(app);
   airtwin::cli::add_maketable_command(app);
   airtwin::cli::add_hotwire_command(app);
+  airtwin::cli::add_probe_command(app);
   airtwin::cli::add_identify_command(app);
   airtwin::cli::add_collect_command(app);
   airtwin::cli::add_calibrate_dynamics_command(app);

@@ -5,6 +5,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "sim/reached_air.h"
 
 namespace airtwin {
 
@@ -31,25 +32,17 @@ struct Twin::Impl {
         actuator(params.nozzle, params.initial_orientation, params.scene.timestep_s),
         field(field_model.at(actuator.effective())),
         air(params.air, params.scene, scene.objects, seed, params.scene.timestep_s),
-        transport(params.cfd_air ? params.air_transport : AirTransportParameters::rigid(),
-                  params.scene.timestep_s, actuator.effective(),
-                  params.cfd_air ? params.cfd_air->startup() : nullptr,
-                  params.cfd_air ? params.cfd_air->formation() : nullptr,
-                  params.cfd_air ? params.cfd_air->stagnation_point(actuator.effective())
-                                 : Eigen::Vector2d::Zero()),
-        formation(scene.objects.size(), Formation{actuator.effective(), 0, {0.0, 0.0}}) {
+        reached(params.cfd_air
+                    ? std::optional<ReachedAir>(std::in_place, *params.cfd_air,
+                                                params.air_transport, params.scene.timestep_s,
+                                                actuator.effective(), scene.objects.size())
+                    : std::nullopt) {
     if (params.cfd_air) cfd_field = params.cfd_air->at(actuator.effective());
-    // At most two lookups per object a step (the reached orientation, and the formation's
-    // orientation before it): no reallocation, so the pointers handed to the air forces stay valid
-    // through the step.
-    lagged_cfd.reserve(2 * scene.objects.size());
   }
 
   void set_rig_joints();
   void refresh_field();
   void set_object_air();
-  // The CFD's air of the orientation `steps` back (> 0), built once per step.
-  const CfdOrientedField& lagged_cfd_air(int steps);
   void check_state();
   std::string object_label(int body) const;
 
@@ -61,18 +54,9 @@ struct Twin::Impl {
   OrientedField field;
   std::optional<CfdOrientedField> cfd_field;  // the air when params.cfd_air is set
   AirForces air;
-  AirTransport transport;
-  // Per object, the wall jet's formation (sim/air_transport.h): the orientation whose air
-  // reached it last step, how many steps back that was, and its departure from that air.
-  struct Formation {
-    NozzleOrientation reached;
-    int steps = 0;
-    Eigen::Vector2d departure;
-  };
-  std::vector<Formation> formation;
-  bool forming = false;  // some object's departure is not yet zero
-  // This step's CFD airs of lagged orientations, by steps back (cleared every step).
-  std::vector<std::pair<int, CfdOrientedField>> lagged_cfd;
+  // In the CFD's air, what each object feels: the orientation whose wall jet has reached it and
+  // the formation's departure (sim/reached_air.h).
+  std::optional<ReachedAir> reached;
   int64_t steps = 0;
   std::string last_warning;
 };
@@ -96,54 +80,19 @@ void Twin::Impl::refresh_field() {
   }
 }
 
-const CfdOrientedField& Twin::Impl::lagged_cfd_air(int steps) {
-  for (const auto& [k, f] : lagged_cfd) {
-    if (k == steps) return f;
-  }
-  lagged_cfd.emplace_back(steps, params.cfd_air->at(transport.at_lag(steps)));
-  return lagged_cfd.back().second;
-}
-
-// Each object's air comes from the newest orientation whose wall jet has reached it
-// (sim/air_transport.h).
-// With the formation, a change of that orientation adds the change of its air at the object to
-// the object's departure, which decays at the formation's rate there. The transport is enabled
-// in the CFD's air only (TwinParameters::air_transport).
+// Each object's air comes from the newest orientation whose wall jet has reached it, formed over
+// time (sim/reached_air.h). The transport is enabled in the CFD's air only
+// (TwinParameters::air_transport).
 void Twin::Impl::set_object_air() {
   air.clear_object_air();
-  lagged_cfd.clear();
-  if (!cfd_field || !transport.enabled() || (transport.steady() && !forming)) return;
-  const bool forms = transport.forms();
-  forming = false;
+  if (!reached || !reached->begin_step()) return;
   for (size_t o = 0; o < scene.objects.size(); ++o) {
     const double* x = data->xpos + 3 * scene.objects[o].root_body;
     const Eigen::Vector2d p(x[0], x[1]);
     const double z = data->xipos[3 * scene.objects[o].root_body + 2];
-    const int steps = transport.reached_steps(p);
-    if (forms) {
-      const CfdOrientedField& reached = steps == 0 ? *cfd_field : lagged_cfd_air(steps);
-      Formation& f = formation[o];
-      const NozzleOrientation& now = transport.at_lag(steps);
-      if (now.pan_rad != f.reached.pan_rad || now.tilt_rad != f.reached.tilt_rad) {
-        // Last step's orientation is one step further back now, usually already built.
-        const int before = f.steps + 1;
-        const NozzleOrientation& b = transport.at_lag(before);
-        const bool cached = b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad;
-        const Eigen::Vector2d u_before =
-            cached ? lagged_cfd_air(before).at(p, z).u_W : params.cfd_air->at(f.reached, p, z).u_W;
-        f.departure -= reached.at(p, z).u_W - u_before;
-        f.reached = now;
-      }
-      f.steps = steps;
-      f.departure *= transport.formation_decay((p - reached.stagnation_point()).norm());
-      if (f.departure.squaredNorm() < 1e-8) {
-        f.departure.setZero();  // below 0.1 mm/s
-      } else {
-        air.set_object_air_departure(o, f.departure);
-        forming = true;
-      }
-    }
-    if (steps > 0) air.set_object_air(o, lagged_cfd_air(steps));
+    const ReachedAir::PointAir a = reached->at(o, p, z);
+    if (a.departure.squaredNorm() > 0.0) air.set_object_air_departure(o, a.departure);
+    if (a.field) air.set_object_air(o, *a.field);
   }
 }
 
@@ -248,8 +197,7 @@ void Twin::step() {
   s.actuator.step();
   s.set_rig_joints();
   s.refresh_field();
-  s.transport.push(s.actuator.effective(),
-                   s.cfd_field ? s.cfd_field->stagnation_point() : Eigen::Vector2d::Zero());
+  if (s.reached) s.reached->push(s.actuator.effective(), *s.cfd_field);
   if (s.cfd_field) {
     s.air.set_air(*s.cfd_field, s.actuator.jet_level());
   } else {

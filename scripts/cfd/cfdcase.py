@@ -400,13 +400,8 @@ relaxationFactors
 """ % (RESIDUAL, RESIDUAL, RESIDUAL)
 
 
-def cmd_write(name, case_dir):
-    case = find_case(name)
-    g = Geo(case)
-    bm, nbg = block_mesh(g)
-    write_file(os.path.join(case_dir, "system/blockMeshDict"), "dictionary", "blockMeshDict", bm)
-    write_file(os.path.join(case_dir, "system/snappyHexMeshDict"), "dictionary", "snappyHexMeshDict",
-               snappy_dict(g))
+def write_feature_dict(case_dir):
+    """surfaceFeatureExtract's dictionary for the rod's edges."""
     write_file(os.path.join(case_dir, "system/surfaceFeatureExtractDict"), "dictionary",
                "surfaceFeatureExtractDict", """rod.stl
 {
@@ -416,10 +411,10 @@ def cmd_write(name, case_dir):
     writeObj no;
 }
 """)
-    write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
-               CONTROL % (END_ITER, 100))
-    write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES)
-    write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION)
+
+
+def write_common(case_dir):
+    """The decomposition over 2 ranks, air's viscosity and standard k-epsilon."""
     write_file(os.path.join(case_dir, "system/decomposeParDict"), "dictionary", "decomposeParDict",
                "numberOfSubdomains 2;\nmethod hierarchical;\ncoeffs { n (2 1 1); order xyz; }\n"
                "hierarchicalCoeffs { n (2 1 1); delta 0.001; order xyz; }\n")
@@ -429,6 +424,21 @@ def cmd_write(name, case_dir):
                "turbulenceProperties",
                "simulationType RAS;\nRAS\n{\n    RASModel kEpsilon;\n    turbulence on;\n"
                "    printCoeffs on;\n}\n")
+
+
+def cmd_write(name, case_dir):
+    case = find_case(name)
+    g = Geo(case)
+    bm, nbg = block_mesh(g)
+    write_file(os.path.join(case_dir, "system/blockMeshDict"), "dictionary", "blockMeshDict", bm)
+    write_file(os.path.join(case_dir, "system/snappyHexMeshDict"), "dictionary", "snappyHexMeshDict",
+               snappy_dict(g))
+    write_feature_dict(case_dir)
+    write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
+               CONTROL % (END_ITER, 100))
+    write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES)
+    write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION)
+    write_common(case_dir)
     os.makedirs(os.path.join(case_dir, "constant/triSurface"), exist_ok=True)
     with open(os.path.join(case_dir, "constant/triSurface/rod.stl"), "w") as fh:
         fh.write(rod_stl(g))

@@ -131,6 +131,47 @@ TEST(Cli, FieldFromTheCfdWritesTheCfdsNumbers) {
   std::filesystem::remove_all(dir);
 }
 
+// The twin's air at fixed points over a program: a held nozzle gives the CFD's steady air there;
+// bad files and flags give one line naming the file's line or the flag.
+TEST(Cli, ProbeWritesTheTwinsAirAtItsPoints) {
+  const std::string dir = scratch_dir("probe");
+  const std::string cfd = std::string(AIRTWIN_SOURCE_DIR) + "/data/cfd";
+  std::ofstream(dir + "/program.csv") << "t_s,pan_deg,tilt_deg\n0,-40,15\n";
+  std::ofstream(dir + "/points.csv") << "x_m,y_m,z_m\n0.3,-0.2,0.004\n-0.1,0.5,0.015\n";
+  const auto r = run_airtwin("probe --program " + dir + "/program.csv --points " + dir +
+                             "/points.csv --end 0.05 --air-formation --out " + dir + "/u.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const CsvTable csv =
+      CsvTable::read_file(dir + "/u.csv", {"t_s", "point", "x_m", "y_m", "z_m", "ux", "uy"});
+  ASSERT_EQ(csv.rows(), 6u * 2u);  // records at 0, 0.01, ..., 0.05 s
+  const CfdField field = CfdField::read_dir(cfd);
+  const NozzleOrientation o{deg_to_rad(-40), deg_to_rad(15)};
+  for (size_t i = 0; i < csv.rows(); ++i) {
+    const Eigen::Vector2d v =
+        field.at(o, {csv.number(i, "x_m"), csv.number(i, "y_m")}, csv.number(i, "z_m")).u_W;
+    EXPECT_NEAR(csv.number(i, "ux"), v.x(), 1e-5);
+    EXPECT_NEAR(csv.number(i, "uy"), v.y(), 1e-5);
+  }
+  std::ofstream(dir + "/late.csv") << "t_s,pan_deg,tilt_deg\n0,0,10\n0,0,20\n";
+  expect_failure("probe --program " + dir + "/late.csv --points " + dir + "/points.csv --out " +
+                     dir + "/o.csv",
+                 1, "late.csv:3: column 't_s'");
+  std::ofstream(dir + "/far.csv") << "t_s,pan_deg,tilt_deg\n0,0,75\n";
+  expect_failure(
+      "probe --program " + dir + "/far.csv --points " + dir + "/points.csv --out " + dir + "/o.csv",
+      1, "outside the cases'");
+  expect_failure("probe --program " + dir + "/program.csv --points " + dir +
+                     "/points.csv --interval 0.003 --out " + dir + "/o.csv",
+                 2, "--interval");
+  expect_failure("probe --program " + dir + "/program.csv --points " + dir +
+                     "/points.csv --air-formation-time-scale 0.5 --out " + dir + "/o.csv",
+                 2, "--air-formation");
+  expect_failure("probe --program " + dir + "/missing.csv --points " + dir + "/points.csv --out " +
+                     dir + "/o.csv",
+                 1, "missing.csv");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, FieldWithPngWritesAPicture) {
   const std::string dir = scratch_dir("field_png");
   const auto r = run_airtwin("field --pan 0 --tilt 0 --step 0.05 --out " + dir + "/f.csv --png " +

@@ -1,0 +1,103 @@
+// airtwin probe: the twin's air at fixed floor points while the nozzle follows a program
+// (sim/air_probe.h). Reads the program (t_s,pan_deg,tilt_deg) and the points (x_m,y_m[,z_m]),
+// writes one CSV row per record and point: t_s,point,x_m,y_m,z_m,ux,uy.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "common/errors.h"
+#include "common/text.h"
+#include "models/cfd_field.h"
+#include "sim/air_probe.h"
+
+namespace airtwin::cli {
+namespace {
+
+struct ProbeArgs {
+  std::string program;
+  std::string points;
+  std::string out;
+  std::string cfd = AIRTWIN_CFD_DIR;
+  bool formation = false;
+  double formation_time_scale = 1.0;
+  AirProbeSettings settings;
+};
+
+constexpr std::initializer_list<FlagOf> kProbeFlags = {
+    {"air_probe.timestep_s", "--timestep"},
+    {"air_probe.interval_s", "--interval"},
+    {"air_probe.end_s", "--end"},
+    {"air_transport.formation_time_scale", "--air-formation-time-scale"}};
+
+void run_probe(const ProbeArgs& a) {
+  if (a.formation_time_scale != 1.0 && !a.formation) {
+    throw UsageError("--air-formation-time-scale needs --air-formation");
+  }
+  AirTransportParameters transport;
+  transport.formation = a.formation;
+  transport.formation_time_scale = a.formation_time_scale;
+  with_flags(kProbeFlags, [&] {
+    a.settings.validate();
+    transport.validate();
+  });
+  const std::vector<ProgramKnot> program = read_nozzle_program(a.program);
+  const std::vector<ProbePoint> points = read_probe_points(a.points);
+  const CfdField cfd = CfdField::read_dir(a.cfd);
+  if (a.formation && (!cfd.formation() || !cfd.startup())) {
+    throw UsageError("--air-formation: " + a.cfd +
+                     " has no jet start-up (startup_tilt00_d40.json) or no pulse cases "
+                     "(pulse<MS>ms_tilt00_d40.json); see docs/cfd.md");
+  }
+  const AirProbeRecord r =
+      with_flags(kProbeFlags, [&] { return probe_air(cfd, transport, program, points, a.settings); });
+  std::string csv = "t_s,point,x_m,y_m,z_m,ux,uy\n";
+  char line[160];
+  for (size_t k = 0; k < r.t_s.size(); ++k) {
+    for (size_t i = 0; i < points.size(); ++i) {
+      std::snprintf(line, sizeof line, "%.4f,%zu,%.4f,%.4f,%.4f,%.5f,%.5f\n", r.t_s[k], i,
+                    points[i].p_W.x(), points[i].p_W.y(), points[i].z_m, r.u_W[k][i].x(),
+                    r.u_W[k][i].y());
+      csv += line;
+    }
+  }
+  ensure_parent_dir(a.out);
+  write_text_file(a.out, csv);
+  std::printf("probe: %zu points x %zu records to %s s -> %s\n", points.size(), r.t_s.size(),
+              format_number(r.t_s.back()).c_str(), a.out.c_str());
+}
+
+}  // namespace
+
+void add_probe_command(CLI::App& app) {
+  auto args = std::make_shared<ProbeArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "probe",
+      "The twin's air at fixed floor points while the nozzle follows a program: the mean air an\n"
+      "object standing there would feel (the CFD's air of the orientation whose wall jet has\n"
+      "reached it, formed over time with --air-formation; before turbulence, the jet fully on).\n"
+      "For checking the twin's moving air against a transient CFD or the rig's anemometers.\n"
+      "Program CSV: t_s,pan_deg,tilt_deg (the nozzle's orientation, linear between rows, held\n"
+      "outside them); points CSV: x_m,y_m[,z_m] (z default 0.015 m). Writes\n"
+      "t_s,point,x_m,y_m,z_m,ux,uy. docs/twin.md, docs/data_formats.md.");
+  sub->add_option("--program", args->program, "Nozzle program CSV")->required();
+  sub->add_option("--points", args->points, "Probe points CSV")->required();
+  sub->add_option("--out", args->out, "Output CSV")->required();
+  sub->add_option("--cfd", args->cfd, "The folder of CFD cases")->capture_default_str();
+  sub->add_flag("--air-formation", args->formation,
+                "The wall jet's formation at the rate of the CFD's short pulses");
+  sub->add_option("--air-formation-time-scale", args->formation_time_scale,
+                  "With --air-formation: the pulses' formation times times this, in (0, 10]")
+      ->capture_default_str();
+  sub->add_option("--timestep", args->settings.timestep_s, "The twin's physics step (s)")
+      ->capture_default_str();
+  sub->add_option("--interval", args->settings.interval_s,
+                  "One record this often (s; a whole number of steps)")
+      ->capture_default_str();
+  sub->add_option("--end", args->settings.end_s, "Last record's time (s)")->capture_default_str();
+  sub->callback([args] { run_probe(*args); });
+}
+
+}  // namespace airtwin::cli

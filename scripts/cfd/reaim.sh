@@ -1,0 +1,185 @@
+#!/usr/bin/env bash
+# A re-aim of the rig's jet in 3-D (docs/cfd.md, "A re-aim in 3-D"): the jet held steady at one
+# tilt, turned at the servos' speed to another and held there; written by scripts/cfd/reaim.py,
+# meshed by snappyHexMesh, solved by simpleFoam (the two end tilts, steady) and pimpleFoam (the
+# re-aim from the first one's fields), converted into data/cfd/<case>.{json,_floor.csv}.
+# Resumable: each stage leaves a marker in the work directory; an interrupted transient restarts
+# from its last written time (every 0.1 s simulated); a finished case (its JSON exists) is skipped.
+# Usage: bash scripts/cfd/reaim.sh [--np 1|2] [--work DIR] [--commit] [--list]
+#   --np N       ranks for the solvers (default 2)
+#   --work DIR   raw cases (default: cfd-work/ at the repository top; not versioned)
+#   --commit     git-commit each case's converted files in data/cfd/ (only those paths)
+#   --list       the cases and whether they are done
+set -uo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+top="$(cd "$here/../.." && pwd)"
+work="$top/cfd-work"
+out="$top/data/cfd"
+commit=0
+np=2
+list=0
+py=/usr/bin/python3
+
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --work) work="$2"; shift 2 ;;
+    --commit) commit=1; shift ;;
+    --np) np="${2:-}"; shift 2 ;;
+    --list) list=1; shift ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    *) echo "reaim.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+case "$np" in 1|2) ;; *) echo "reaim.sh: --np: expected 1 or 2, got '$np'" >&2; exit 2 ;; esac
+
+mapfile -t cases < <("$py" "$here/reaim.py" list)
+if [ "$list" = 1 ]; then
+  for line in "${cases[@]}"; do
+    read -r name from to <<<"$line"
+    state="to do"
+    [ -f "$out/$name.json" ] && state="done"
+    printf '%-24s %5s -> %5s deg: %s\n' "$name" "$from" "$to" "$state"
+  done
+  exit 0
+fi
+
+export WM_PROJECT_DIR=/usr/share/openfoam
+for tool in blockMesh surfaceFeatureExtract snappyHexMesh checkMesh simpleFoam pimpleFoam decomposePar \
+            reconstructPar; do
+  if ! command -v "$tool" >/dev/null 2>&1 || [ ! -d "$WM_PROJECT_DIR/etc" ]; then
+    echo "reaim.sh: OpenFOAM not found (no $tool); run bash scripts/setup.sh --cfd" >&2
+    exit 1
+  fi
+done
+if ! "$py" -c 'import numpy' >/dev/null 2>&1; then
+  echo "reaim.sh: $py with numpy not found; run bash scripts/setup.sh --cfd" >&2
+  exit 1
+fi
+if [ "$np" = 2 ] && ! command -v mpirun >/dev/null 2>&1; then
+  echo "reaim.sh: mpirun not found; run bash scripts/setup.sh --cfd" >&2
+  exit 1
+fi
+nice_cmd=(nice -n 19)
+mkdir -p "$work" "$out"
+
+# tool DIR LOG CMD...: one OpenFOAM tool in DIR, its output in DIR/log.LOG.
+tool() {
+  local dir="$1" log="$2"; shift 2
+  if ! (cd "$dir" && "${nice_cmd[@]}" "$@" > "log.$log" 2>&1); then
+    echo "reaim.sh: $1 failed, see $dir/log.$log" >&2
+    tail -5 "$dir/log.$log" >&2
+    exit 1
+  fi
+}
+
+# solver DIR APP PROGRESS: APP (serial or on np ranks) in DIR, progress lines every minute.
+solver() {
+  local dir="$1" app="$2" progress="$3" n log pid t0
+  n=$(find "$dir" -maxdepth 1 -name "log.$app*" | wc -l)
+  log="log.$app"
+  [ "$n" = 0 ] || log="log.$app.$n"
+  t0=$(date +%s)
+  if [ "$np" = 2 ]; then
+    [ -d "$dir/processor0" ] || tool "$dir" decomposePar decomposePar -force
+    (cd "$dir" && "${nice_cmd[@]}" mpirun --allow-run-as-root -np 2 "$app" -parallel > "$log" 2>&1) &
+  else
+    (cd "$dir" && "${nice_cmd[@]}" "$app" > "$log" 2>&1) &
+  fi
+  pid=$!
+  while kill -0 "$pid" 2>/dev/null; do
+    sleep 60
+    kill -0 "$pid" 2>/dev/null && echo "reaim.sh: $(basename "$dir"): $("$py" "$here/$progress" progress "$dir")"
+  done
+  if ! wait "$pid"; then
+    echo "reaim.sh: $app failed, see $dir/$log" >&2
+    tail -5 "$dir/$log" >&2
+    exit 1
+  fi
+  echo "$(( $(date +%s) - t0 ))" >> "$dir/wall_time_s"
+}
+
+# steady NAME DIR TILT: the steady run blowing at TILT on the case's mesh (made in the first one).
+steady() {
+  local name="$1" dir="$2" tilt="$3" mesh_dir="$work/${1}_steady_from" msg
+  [ -f "$dir/.solved" ] && return 0
+  if [ ! -f "$dir/.fields" ]; then
+    if [ "$dir" != "$mesh_dir" ]; then
+      rm -rf "$dir"
+      mkdir -p "$dir"
+      cp -r "$mesh_dir/constant" "$mesh_dir/system" "$mesh_dir/case.json" "$dir/"
+    fi
+    rm -rf "$dir"/processor* "$dir/0"
+    msg=$("$py" "$here/reaim.py" steady "$name" "$dir" "$tilt") || exit 1
+    echo "reaim.sh: $(basename "$dir"): $msg"
+    touch "$dir/.fields"
+  fi
+  solver "$dir" simpleFoam cfdcase.py
+  if [ "$np" = 2 ]; then
+    tool "$dir" reconstructPar reconstructPar -latestTime
+    rm -rf "$dir"/processor*
+  fi
+  echo "reaim.sh: $(basename "$dir"): $("$py" "$here/cfdcase.py" progress "$dir")"
+  printf '{"tilt_deg": %s, "wall_time_s": %s, "ranks": %d, "log": "%s"}\n' "$tilt" \
+    "$(awk '{s += $1} END {print s}' "$dir/wall_time_s")" "$np" \
+    "$("$py" "$here/cfdcase.py" progress "$dir" | sed 's/"//g')" > "$dir/run.json"
+  touch "$dir/.solved"
+}
+
+run_case() {
+  local name="$1" from="$2" to="$3" mesh_dir="$work/${1}_steady_from" dir="$work/$1" t0 msg
+  if [ ! -f "$mesh_dir/.meshed" ]; then
+    rm -rf "$mesh_dir"
+    mkdir -p "$mesh_dir"
+    t0=$(date +%s)
+    msg=$("$py" "$here/reaim.py" write "$name" "$mesh_dir") || exit 1
+    echo "reaim.sh: $msg"
+    tool "$mesh_dir" blockMesh blockMesh
+    tool "$mesh_dir" surfaceFeatureExtract surfaceFeatureExtract
+    tool "$mesh_dir" snappyHexMesh snappyHexMesh -overwrite
+    tool "$mesh_dir" checkMesh checkMesh
+    echo "reaim.sh: meshed in $(( $(date +%s) - t0 )) s: $(grep -m1 'cells:' "$mesh_dir/log.checkMesh" | xargs)"
+    touch "$mesh_dir/.meshed"
+  fi
+  # the first tilt's steady state (the transient's start); the second's (the reference of the
+  # transient's end) after the transient
+  steady "$name" "$mesh_dir" "$from"
+  if [ ! -f "$dir/.written" ]; then
+    rm -rf "$dir"
+    msg=$("$py" "$here/reaim.py" transient "$name" "$mesh_dir" "$dir") || exit 1
+    echo "reaim.sh: $msg"
+    touch "$dir/.written"
+  fi
+  if [ ! -f "$dir/.solved" ]; then
+    solver "$dir" pimpleFoam reaim.py
+    touch "$dir/.solved"
+  fi
+  steady "$name" "$work/${name}_steady_to" "$to"
+  msg=$("$py" "$here/reaim.py" convert "$name" "$dir" "$out") || exit 1
+  echo "reaim.sh: $msg"
+  if [ "$commit" = 1 ]; then
+    local files=("${out#"$top"/}/$name.json" "${out#"$top"/}/${name}_floor.csv")
+    for attempt in 1 2 3 4 5 6 7 8 9 10; do
+      if [ ! -f "$top/.git/index.lock" ] && (cd "$top" && git add -- "${files[@]}" &&
+          git commit -q -m "CFD data: $name" \
+            -m "A 3-D re-aim of the rig's jet from scripts/cfd/reaim.sh (docs/cfd.md)." \
+            -- "${files[@]}"); then
+        echo "reaim.sh: committed $(cd "$top" && git rev-parse --short HEAD)"
+        return 0
+      fi
+      sleep 3
+    done
+    echo "reaim.sh: could not commit $name (index locked?)" >&2
+    exit 1
+  fi
+}
+
+for line in "${cases[@]}"; do
+  read -r name from to <<<"$line"
+  if [ -f "$out/$name.json" ]; then
+    echo "reaim.sh: $name done before; skipped"
+    continue
+  fi
+  run_case "$name" "$from" "$to"
+done
+exit 0

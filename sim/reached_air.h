@@ -1,0 +1,70 @@
+#pragma once
+// The CFD air that each of a set of floor points feels while the nozzle moves: the orientation
+// whose wall jet has reached the point (sim/air_transport.h, its lag) and, with the wall jet's
+// formation, the point's departure from that orientation's air. A change of the reached
+// orientation adds the change of its air at the point to the departure, which then decays at the
+// formation's rate there, exp(-dt / tau(r)) a step; the departure never grows as a point moves
+// through still air.
+//
+// The twin keeps one point per object (sim/twin.cc); the air probe keeps fixed points, the
+// twin's anemometers (sim/air_probe.h).
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "models/cfd_field.h"
+#include "sim/air_transport.h"
+
+namespace airtwin {
+
+class ReachedAir {
+ public:
+  /// `cfd` (must outlive this) gives the air, its start-up the lag and its pulses the formation
+  /// (when params ask for them); the air has been at rest at `initial` for long. `points`: how
+  /// many points are tracked.
+  ReachedAir(const CfdField& cfd, const AirTransportParameters& params, double timestep_s,
+             const NozzleOrientation& initial, size_t points);
+
+  /// Records this step's effective orientation and its air `present` (must outlive the step's
+  /// lookups); once per step, before begin_step().
+  void push(const NozzleOrientation& effective, const CfdOrientedField& present);
+
+  /// Begins this step's lookups. False when every point feels the present air with no departure
+  /// (the lag is off, or no orientation but the present one is kept and nothing is still
+  /// forming): at() need not be called then.
+  bool begin_step();
+
+  /// What point i feels this step: `field` is the reached orientation's air (null: the present
+  /// one) and `departure` (m/s, world frame) is added to it (zero when formed). Call for every
+  /// point after begin_step() returned true; the field stays valid until the next begin_step().
+  struct PointAir {
+    const CfdOrientedField* field = nullptr;
+    Eigen::Vector2d departure = Eigen::Vector2d::Zero();
+  };
+  PointAir at(size_t i, const Eigen::Vector2d& p_W, double z_m);
+
+  const AirTransport& transport() const { return transport_; }
+
+ private:
+  // The CFD's air of the orientation `steps` back (> 0), built once per step.
+  const CfdOrientedField& lagged(int steps);
+
+  const CfdField& cfd_;
+  AirTransport transport_;
+  const CfdOrientedField* present_ = nullptr;
+  // Per point: the orientation whose air reached it last step, how many steps back that was, and
+  // its departure from that air.
+  struct Formation {
+    NozzleOrientation reached;
+    int steps = 0;
+    Eigen::Vector2d departure;
+  };
+  std::vector<Formation> formation_;
+  bool forming_ = false;  // some point's departure is not yet zero
+  // This step's CFD airs of lagged orientations, by steps back (cleared every step).
+  std::vector<std::pair<int, CfdOrientedField>> lagged_;
+};
+
+}  // namespace airtwin
