@@ -32,6 +32,9 @@ void bind_planner(pybind11::module_& m);
 pybind11::array_t<std::uint8_t> rgb_frame(FrameRenderer& renderer, const mjData* data,
                                           int64_t frame_index, cv::Mat& bgr);
 
+/// probe_air(): the twin's moving air at fixed floor points over a nozzle program.
+void bind_probe(pybind11::module_& m);
+
 /// run_scenario and RunResult: a closed-loop run as `airtwin run` runs it.
 void bind_run(pybind11::module_& m);
 

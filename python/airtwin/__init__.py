@@ -19,6 +19,7 @@ from ._core import (  # noqa: F401  (the public API)
     identify_trajectories,
     object_dynamics,
     predict,
+    probe_air,
     run_scenario,
     stagnation_point,
 )
