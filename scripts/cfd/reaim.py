@@ -423,12 +423,16 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     for label, extra in variants:
         tt, u = run_probe(airtwin, out_dir, "twin_" + label.replace(" ", "_"), program_csv, points_csv,
                           end, dt, extra)
-        if tt.size != t.size or np.abs(tt - t).max() > 1e-6:
-            sys.exit("reaim: the probe's times are not the CFD's")
-        twin[label] = u
+        idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
+        if np.abs(tt[idx] - t).max() > 1e-6:
+            sys.exit("reaim: the probe has no record at some of the CFD's times")
+        twin[label] = u[idx]
     ua_twin = twin["no formation"][0]
-    # the new s: the twin's stagnation point at the second tilt (pan 0: on the x axis)
-    s_to = float(pts[np.argmin(np.linalg.norm(ub_twin, axis=1) + 10 * (pts[:, 1] > 0.01)), 0])
+    # the new s: the steady campaign's at the second tilt (pan 0: on the x axis), the twin's there
+    steady_case = os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])
+    if not os.path.exists(steady_case):
+        sys.exit("reaim: %s: the steady case at the second tilt is needed" % steady_case)
+    s_to = float(json.load(open(steady_case))["stagnation_point_s_m"][0])
     r = np.hypot(pts[:, 0] - s_to, pts[:, 1])
     # the steady ends against the twin's campaign air, where |u| >= 0.3 m/s
     def mape(a, b):

@@ -61,6 +61,8 @@ if [ "$np" = 2 ] && ! command -v mpirun >/dev/null 2>&1; then
   exit 1
 fi
 nice_cmd=(nice -n 19)
+# shellcheck source=scripts/cfd/commit_data.sh
+source "$here/commit_data.sh"
 mkdir -p "$work" "$out"
 
 # tool DIR LOG CMD...: one OpenFOAM tool in DIR, its output in DIR/log.LOG.
@@ -159,18 +161,9 @@ run_case() {
   echo "reaim.sh: $msg"
   if [ "$commit" = 1 ]; then
     local files=("${out#"$top"/}/$name.json" "${out#"$top"/}/${name}_floor.csv")
-    for attempt in 1 2 3 4 5 6 7 8 9 10; do
-      if [ ! -f "$top/.git/index.lock" ] && (cd "$top" && git add -- "${files[@]}" &&
-          git commit -q -m "CFD data: $name" \
-            -m "A 3-D re-aim of the rig's jet from scripts/cfd/reaim.sh (docs/cfd.md)." \
-            -- "${files[@]}"); then
-        echo "reaim.sh: committed $(cd "$top" && git rev-parse --short HEAD)"
-        return 0
-      fi
-      sleep 3
-    done
-    echo "reaim.sh: could not commit $name (index locked?)" >&2
-    exit 1
+    msg=$(commit_data "$top" "CFD data: $name" \
+      "A 3-D re-aim of the rig's jet from scripts/cfd/reaim.sh (docs/cfd.md)." "${files[@]}") || exit 1
+    echo "reaim.sh: $msg"
   fi
 }
 

@@ -68,6 +68,8 @@ fi
 
 mkdir -p "$work" "$out"
 nice_cmd=(nice -n 19)
+# shellcheck source=scripts/cfd/commit_data.sh
+source "$here/commit_data.sh"
 
 # runs an OpenFOAM tool in the case folder, its output to log.<name>; fails loudly
 run_tool() {
@@ -84,18 +86,9 @@ commit_case() {
   for f in "$out/$name".json "$out/$name".f32 "$out/$name"_*.csv; do
     [ -f "$f" ] && files+=("${f#"$top"/}")
   done
-  for attempt in 1 2 3 4 5 6 7 8 9 10; do
-    if [ ! -f "$top/.git/index.lock" ]; then
-      if (cd "$top" && git add -- "${files[@]}" && git commit -q -m "CFD data: $name" \
-          -m "Floor field, jet centreline and wall-jet profiles of case $name from scripts/cfd/run_all.sh (docs/cfd.md)." \
-          -- "${files[@]}"); then
-        echo "$tag: committed $(cd "$top" && git rev-parse --short HEAD)"
-        return 0
-      fi
-    fi
-    sleep 3
-  done
-  echo "$tag: could not commit $name (index locked?)" >&2
+  echo "$tag: $(commit_data "$top" "CFD data: $name" \
+    "Floor field, jet centreline and wall-jet profiles of case $name from scripts/cfd/run_all.sh (docs/cfd.md)." \
+    "${files[@]}")"
 }
 
 solve() {

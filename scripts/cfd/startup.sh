@@ -48,6 +48,8 @@ if ! "$py" -c 'import numpy' >/dev/null 2>&1; then
   exit 1
 fi
 nice_cmd=(nice -n 19)
+# shellcheck source=scripts/cfd/commit_data.sh
+source "$here/commit_data.sh"
 
 # run_case NAME: writes (and for the start-up meshes), solves, converts and commits one case.
 run_case() {
@@ -101,18 +103,9 @@ run_case() {
     for f in "$out/$name".json "$out/$name"_*.csv; do
       files+=("${f#"$top"/}")
     done
-    for attempt in 1 2 3 4 5 6 7 8 9 10; do
-      if [ ! -f "$top/.git/index.lock" ] && (cd "$top" && git add -- "${files[@]}" &&
-          git commit -q -m "CFD data: $name" \
-            -m "A transient of the rig's jet from scripts/cfd/startup.sh (docs/cfd.md)." \
-            -- "${files[@]}"); then
-        echo "startup.sh: committed $(cd "$top" && git rev-parse --short HEAD)"
-        return 0
-      fi
-      sleep 3
-    done
-    echo "startup.sh: could not commit $name (index locked?)" >&2
-    exit 1
+    msg=$(commit_data "$top" "CFD data: $name" \
+      "A transient of the rig's jet from scripts/cfd/startup.sh (docs/cfd.md)." "${files[@]}") || exit 1
+    echo "startup.sh: $msg"
   fi
 }
 
