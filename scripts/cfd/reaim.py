@@ -364,7 +364,8 @@ def run_probe(airtwin, work, name, program_csv, points_csv, end, interval, extra
     return times, np.stack([raw["ux"], raw["uy"]], axis=1).reshape(times.size, n, 2)
 
 
-SCALES = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0]
+SCALES = [0.125, 0.25, 0.5, 1.0, 2.0]
+TRANSITS = [0.2, 0.15]    # s: free-jet transits tried beside the start-up's (0.27 s)
 MIN_CHANGE = 0.5          # m/s: points where the air changes less are left out of g
 R_BAND = (0.1, 0.7)       # m from the new s: where the Appendix D objects start (0.2-0.58 m)
 
@@ -400,11 +401,20 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     turn = meta["turn_start_s"]
     ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
     os.makedirs(out_dir, exist_ok=True)
-    program_csv = os.path.join(out_dir, "program.csv")
-    with open(program_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n")
-        for k in meta["program"]:
-            fh.write("%.6f,0,%.6f\n" % (k["t_s"], k["tilt_deg"]))
+    # The twin's transit is the start-up's (the head of a jet starting into still air, in whole
+    # steps); a turning jet is already established and may carry its turn down faster. Other
+    # transits T are tried by running the program earlier by the difference.
+    axis = json.load(open(os.path.join(data_dir, "startup_tilt00_d40.json")))["figures"]["axis"]
+    step = 0.0025
+    startup_transit = round(min(axis, key=lambda e: e["z_m"])["arrival_s"] / step) * step
+    programs = {}
+    for transit in [startup_transit] + TRANSITS:
+        path = os.path.join(out_dir, "program_transit%03.0fms.csv" % (1000 * transit))
+        with open(path, "w") as fh:
+            fh.write("t_s,pan_deg,tilt_deg\n")
+            for k in meta["program"]:
+                fh.write("%.6f,0,%.6f\n" % (k["t_s"] - (startup_transit - transit), k["tilt_deg"]))
+        programs[transit] = path
     held_csv = os.path.join(out_dir, "held.csv")
     with open(held_csv, "w") as fh:
         fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
@@ -417,16 +427,17 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     end = float(t[-1])
     _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
     ub_twin = ub_twin[-1]
-    variants = [("no formation", [])] + [("formation x%g" % s, ["--air-formation"] + (
-        ["--air-formation-time-scale", "%g" % s] if s != 1.0 else [])) for s in SCALES]
+    formations = [("no formation", [])] + [("formation x%g" % f, ["--air-formation"] + (
+        ["--air-formation-time-scale", "%g" % f] if f != 1.0 else [])) for f in SCALES]
     twin = {}
-    for label, extra in variants:
-        tt, u = run_probe(airtwin, out_dir, "twin_" + label.replace(" ", "_"), program_csv, points_csv,
-                          end, dt, extra)
-        idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
-        if np.abs(tt[idx] - t).max() > 1e-6:
-            sys.exit("reaim: the probe has no record at some of the CFD's times")
-        twin[label] = u[idx]
+    for transit, program_csv in programs.items():
+        for flabel, extra in formations:
+            label = flabel if transit == startup_transit else "%s, transit %.2f s" % (flabel, transit)
+            tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, end, dt, extra)
+            idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
+            if np.abs(tt[idx] - t).max() > 1e-6:
+                sys.exit("reaim: the probe has no record at some of the CFD's times")
+            twin[label] = u[idx]
     ua_twin = twin["no formation"][0]
     # the new s: the steady campaign's at the second tilt (pan 0: on the x axis), the twin's there
     steady_case = os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])
@@ -438,7 +449,7 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     def mape(a, b):
         m = np.linalg.norm(b, axis=1) >= 0.3
         return float(100 * np.mean(np.linalg.norm(a[m] - b[m], axis=1) / np.linalg.norm(b[m], axis=1)))
-    report = {"case": name, "new_s_x_m": s_to, "min_change_m_s": MIN_CHANGE, "r_band_m": list(R_BAND),
+    report = {"case": name, "new_s_x_m": s_to, "startup_transit_s": startup_transit, "min_change_m_s": MIN_CHANGE, "r_band_m": list(R_BAND),
               "steady_ends": {"from_mape_pct": mape(ua_cfd, ua_twin), "to_mape_pct": mape(ub_cfd, ub_twin)},
               "heights": {}}
     after = t >= turn
@@ -478,10 +489,12 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
                      v["rise_25_75_median_s"] or float("nan"), v["cfd_rise_25_75_median_s"] or float("nan")))
         print("  closest: %s" % e["best"])
     if png:
-        plot_compare(png, t, pts, r, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta)
+        shown = ["no formation", "formation x1"]
+        shown += [e["best"] for e in report["heights"].values() if e["best"] not in shown][:1]
+        plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown)
 
 
-def plot_compare(png, t, pts, r, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta):
+def plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -493,9 +506,9 @@ def plot_compare(png, t, pts, r, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_
     for ax, (dx, i) in zip(axes, picks):
         g = lambda u, ua, ub: (u[:, i] - ua[i]) @ (ub[i] - ua[i]) / np.dot(ub[i] - ua[i], ub[i] - ua[i])
         ax.plot(t, g(u_cfd, ua_cfd, ub_cfd), "k-", lw=2, label="CFD (3-D re-aim)")
-        for label, style in (("no formation", "C0--"), ("formation x1", "C1-"), ("formation x0.5", "C2-"),
-                             ("formation x0.25", "C3-")):
-            ax.plot(t, g(twin[label], ua_twin, ub_twin), style, label="twin, " + label)
+        for k, label in enumerate(shown):
+            ax.plot(t, g(twin[label], ua_twin, ub_twin), "C%d%s" % (k, "--" if k == 0 else "-"),
+                    label="twin, " + label)
         ax.axvline(meta["turn_start_s"], color="0.6", lw=0.8)
         ax.set_title("x = %.2f m (%+.1f m from the new s), 4 mm" % (pts[i, 0], dx), fontsize=9)
         ax.set_xlabel("t (s)")
