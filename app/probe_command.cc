@@ -51,8 +51,8 @@ void run_probe(const ProbeArgs& a) {
                      " has no jet start-up (startup_tilt00_d40.json) or no pulse cases "
                      "(pulse<MS>ms_tilt00_d40.json); see docs/cfd.md");
   }
-  const AirProbeRecord r =
-      with_flags(kProbeFlags, [&] { return probe_air(cfd, transport, program, points, a.settings); });
+  const AirProbeRecord r = with_flags(
+      kProbeFlags, [&] { return probe_air(cfd, transport, program, points, a.settings); });
   std::string csv = "t_s,point,x_m,y_m,z_m,ux,uy\n";
   char line[160];
   for (size_t k = 0; k < r.t_s.size(); ++k) {

@@ -14,22 +14,23 @@ namespace airtwin {
 
 void AirProbeSettings::validate() const {
   if (!std::isfinite(timestep_s) || timestep_s <= 0.0 || timestep_s > 0.1) {
-    throw FieldError("air_probe.timestep_s", "expected a step in (0, 0.1] s, got " +
-                     format_number(timestep_s));
+    throw FieldError("air_probe.timestep_s",
+                     "expected a step in (0, 0.1] s, got " + format_number(timestep_s));
   }
   const double steps = interval_s / timestep_s;
   if (!std::isfinite(interval_s) || steps < 1.0 - 1e-9 ||
       std::abs(steps - std::round(steps)) > 1e-6) {
     throw FieldError("air_probe.interval_s", "expected a whole number of " +
-                     format_number(timestep_s) + " s steps, got " + format_number(interval_s));
+                                                 format_number(timestep_s) + " s steps, got " +
+                                                 format_number(interval_s));
   }
   if (!std::isfinite(end_s) || end_s <= 0.0 || end_s > 3600.0) {
-    throw FieldError("air_probe.end_s", "expected a time in (0, 3600] s, got " +
-                     format_number(end_s));
+    throw FieldError("air_probe.end_s",
+                     "expected a time in (0, 3600] s, got " + format_number(end_s));
   }
   if (!std::isfinite(field_delay_s) || field_delay_s < 0.0 || field_delay_s > 2.0) {
-    throw FieldError("air_probe.field_delay_s", "expected a delay in [0, 2] s, got " +
-                     format_number(field_delay_s));
+    throw FieldError("air_probe.field_delay_s",
+                     "expected a delay in [0, 2] s, got " + format_number(field_delay_s));
   }
 }
 
@@ -94,15 +95,16 @@ AirProbeRecord probe_air(const CfdField& cfd, const AirTransportParameters& para
                          const std::vector<ProbePoint>& points, const AirProbeSettings& settings) {
   settings.validate();
   params.validate();
-  if (program.empty()) throw FieldError("air_probe.program", "expected at least one knot, got none");
+  if (program.empty())
+    throw FieldError("air_probe.program", "expected at least one knot, got none");
   for (size_t i = 1; i < program.size(); ++i) {
     if (!(program[i].t_s > program[i - 1].t_s)) {
       throw InputError("air_probe.program[" + std::to_string(i) +
                        "].t_s: expected a time after the previous knot's");
     }
   }
-  const double transit = params.cfd_timing && cfd.startup() ? cfd.startup()->transit_s()
-                                                            : settings.field_delay_s;
+  const double transit =
+      params.cfd_timing && cfd.startup() ? cfd.startup()->transit_s() : settings.field_delay_s;
   const double dt = settings.timestep_s;
   // Whole steps, as the actuator's delay line has it (sim/nozzle_actuator.h).
   const long delay_steps = std::lround(transit / dt);

@@ -33,10 +33,10 @@ struct ProbePoint {
 };
 
 struct AirProbeSettings {
-  double timestep_s = 0.0025;     ///< the twin's physics step (SceneParameters::timestep_s)
-  double interval_s = 0.01;       ///< one record this often (a whole number of steps)
-  double end_s = 1.0;             ///< last record's time (s from the program's t = 0)
-  double field_delay_s = 0.2;     ///< the transit without the CFD's start-up
+  double timestep_s = 0.0025;  ///< the twin's physics step (SceneParameters::timestep_s)
+  double interval_s = 0.01;    ///< one record this often (a whole number of steps)
+  double end_s = 1.0;          ///< last record's time (s from the program's t = 0)
+  double field_delay_s = 0.2;  ///< the transit without the CFD's start-up
   /// Throws InputError naming the field unless the step is positive, the interval a whole
   /// number (>= 1) of steps and the end after 0.
   void validate() const;

@@ -2,8 +2,8 @@
 
 namespace airtwin {
 
-ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params,
-                       double timestep_s, const NozzleOrientation& initial, size_t points)
+ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params, double timestep_s,
+                       const NozzleOrientation& initial, size_t points)
     : cfd_(cfd),
       transport_(params, timestep_s, initial, cfd.startup(), cfd.formation(),
                  cfd.stagnation_point(initial)),

@@ -91,9 +91,10 @@ TEST(AirProbe, AfterAJumpTheAirArrivesWithTheStartUpAndFormsAtThePulsesRate) {
     const double arrival = cfd()->startup()->transit_s() + cfd()->startup()->wall_jet_lag_s(j.r_m);
     const double tau = scale * cfd()->formation()->time_s(j.r_m);
     const double half = first_above(j, 0.5), three_quarters = first_above(j, 0.75);
-    std::printf("tau x%.2f at r %.3f m: half at %.4f s (arrival %.4f s), 3/4 %.4f s later "
-                "(ln 2 tau %.4f s)\n",
-                scale, j.r_m, half, arrival, three_quarters - half, std::log(2.0) * tau);
+    std::printf(
+        "tau x%.2f at r %.3f m: half at %.4f s (arrival %.4f s), 3/4 %.4f s later "
+        "(ln 2 tau %.4f s)\n",
+        scale, j.r_m, half, arrival, three_quarters - half, std::log(2.0) * tau);
     EXPECT_NEAR(j.g.front(), 0.0, 1e-12);  // the old air until the new one arrives
     // The lag's rounding to a step, the program's one-step jump and the sampling: 3 steps.
     EXPECT_NEAR(half, arrival, 0.0075);
