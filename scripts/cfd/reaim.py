@@ -473,6 +473,24 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
                 "rise_25_75_median_s": float(np.nanmedian(rise)) if rise.size else None,
                 "cfd_rise_25_75_median_s": float(np.nanmedian(rise_cfd)) if rise_cfd.size else None,
                 "points_timed": int(both.sum())}
+        # by side of the new s (downstream: away from the old s) and distance, the twin with the
+        # start-up's transit
+        bands = []
+        down = pts[:, 0] >= s_to
+        for side, mask in (("downstream", down), ("upstream", ~down)):
+            for lo, hi in ((0.1, 0.2), (0.2, 0.4), (0.4, 0.7)):
+                part = (mask & (r >= lo) & (r < hi))[sel]
+                if not part.any():
+                    continue
+                band = {"side": side, "r_m": [lo, hi], "points": int(part.sum()),
+                        "cfd_rise_25_75_median_s": float(np.nanmedian((rt_cfd[2] - rt_cfd[0])[part]))}
+                for label in ("no formation", "formation x0.5", "formation x1"):
+                    g = share(twin[label][:, sel], ua_twin[sel], ub_twin[sel])
+                    rt = rise_times(t, g)
+                    band[label] = {"half_time_bias_s": float(np.nanmean((rt[1] - rt_cfd[1])[part])),
+                                   "rise_25_75_median_s": float(np.nanmedian((rt[2] - rt[0])[part]))}
+                bands.append(band)
+        entry["bands"] = bands
         best = min(entry["variants"], key=lambda k: entry["variants"][k]["rms_g"])
         entry["best"] = best
         # the timing: the new air's half-way time and its 25-75 % rise, both against the CFD's
@@ -495,6 +513,11 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
             print("  %-18s rms g %.3f, half-time bias %+.3f s (rms %.3f), 25-75 %% rise %.3f s (CFD %.3f)"
                   % (label, v["rms_g"], v["half_time_bias_s"], v["half_time_rms_s"],
                      v["rise_25_75_median_s"] or float("nan"), v["cfd_rise_25_75_median_s"] or float("nan")))
+        for b in e["bands"]:
+            print("  %s %.1f-%.1f m (%d points): CFD rise %.3f s; half-way bias / rise: %s" % (
+                b["side"], b["r_m"][0], b["r_m"][1], b["points"], b["cfd_rise_25_75_median_s"],
+                ", ".join("%s %+.3f / %.3f s" % (k, b[k]["half_time_bias_s"], b[k]["rise_25_75_median_s"])
+                          for k in ("no formation", "formation x0.5", "formation x1"))))
         print("  closest over the whole change (rms g): %s" % e["best"])
         print("  closest in timing (half-way time and 25-75 %% rise): %s" % e["best_timing"])
     if png:
