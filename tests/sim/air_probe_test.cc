@@ -12,7 +12,10 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "common/csv.h"
 #include "common/errors.h"
 #include "common/units.h"
 #include "sim/twin.h"
@@ -157,6 +160,78 @@ TEST(AirProbe, FeelsWhatTheTwinsObjectThereFeels) {
   // The same code, steps and orientations (the transit in whole steps in both): nothing but
   // rounding differs.
   EXPECT_LT(worst, 1e-9);
+}
+
+// Against the 3-D CFD of a re-aim (data/cfd/reaim_t00.0_t22.5_d40, docs/cfd.md): near the new
+// s (0.1-0.2 m, either side) the twin's transit and lag bring the new air half-way when the CFD
+// does. The CFD's old air is its mean over the 50 ms before the turn, its new air the mean of its
+// last 0.1 s (the air near s has settled by then); the twin's are its own first and last records.
+TEST(AirProbe, NearTheNewStagnationPointTheReaimsAirArrivesWhenTheCfdsDoes) {
+  const std::string dir = AIRTWIN_SOURCE_DIR "/data/cfd/";
+  const CsvTable cfd_csv = CsvTable::read_file(dir + "reaim_t00.0_t22.5_d40_floor.csv",
+                                               {"t", "x_m", "y_m", "z_m", "ux", "uy", "uz", "k"});
+  // The probes near s at 4 mm, and their series.
+  const double s_x = cfd()->stagnation_point({0.0, deg_to_rad(22.5)}).x();
+  std::vector<ProbePoint> points;
+  std::vector<std::vector<std::pair<double, Eigen::Vector2d>>> series;
+  for (size_t i = 0; i < cfd_csv.rows(); ++i) {
+    const Eigen::Vector2d p(cfd_csv.number(i, "x_m"), cfd_csv.number(i, "y_m"));
+    const double r = (p - Eigen::Vector2d(s_x, 0.0)).norm();
+    if (cfd_csv.number(i, "z_m") != 0.004 || r < 0.1 || r >= 0.2) continue;
+    size_t k = 0;
+    while (k < points.size() && (points[k].p_W - p).norm() > 1e-9) ++k;
+    if (k == points.size()) {
+      points.push_back({p, 0.004});
+      series.emplace_back();
+    }
+    series[k].push_back(
+        {cfd_csv.number(i, "t"), {cfd_csv.number(i, "ux"), cfd_csv.number(i, "uy")}});
+  }
+  ASSERT_GE(points.size(), 10u);
+  std::vector<ProgramKnot> program = {{0.0, {0.0, 0.0}}};
+  program.push_back({0.1, {0.0, 0.0}});
+  program.push_back({0.1 + deg_to_rad(22.5) / 7.0, {0.0, deg_to_rad(22.5)}});
+  AirTransportParameters params;
+  AirProbeSettings s;
+  s.interval_s = 0.02;
+  s.end_s = 1.16;
+  const AirProbeRecord r = probe_air(*cfd(), params, program, points, s);
+  const auto half_time = [](const std::vector<double>& t, const std::vector<double>& g) {
+    for (size_t k = 1; k < g.size(); ++k) {
+      if (g[k] >= 0.5) return t[k - 1] + (0.5 - g[k - 1]) / (g[k] - g[k - 1]) * (t[k] - t[k - 1]);
+    }
+    return 1e9;
+  };
+  double worst = 0.0;
+  for (size_t k = 0; k < points.size(); ++k) {
+    Eigen::Vector2d old_air = Eigen::Vector2d::Zero(), new_air = Eigen::Vector2d::Zero();
+    int n_old = 0, n_new = 0;
+    for (const auto& [t, u] : series[k]) {
+      if (t > 0.05 && t <= 0.1 + 1e-9) old_air += u, ++n_old;
+      if (t > 1.06 + 1e-9) new_air += u, ++n_new;
+    }
+    ASSERT_GT(n_old, 0);
+    ASSERT_GT(n_new, 0);
+    old_air /= n_old;
+    new_air /= n_new;
+    const Eigen::Vector2d d = new_air - old_air, dt = r.u_W.back()[k] - r.u_W.front()[k];
+    if (d.norm() < 0.5) continue;
+    std::vector<double> tc, gc, gt;
+    for (const auto& [t, u] : series[k]) {
+      tc.push_back(t);
+      gc.push_back((u - old_air).dot(d) / d.squaredNorm());
+    }
+    for (size_t j = 0; j < r.t_s.size(); ++j) {
+      gt.push_back((r.u_W[j][k] - r.u_W.front()[k]).dot(dt) / dt.squaredNorm());
+    }
+    const double cfd_half = half_time(tc, gc), twin_half = half_time(r.t_s, gt);
+    worst = std::max(worst, std::abs(twin_half - cfd_half));
+  }
+  std::printf("near the new s: the twin's half-way times within %.3f s of the CFD's\n", worst);
+  // docs/cfd.md: within 0.015 s on average, the worst point 0.036 s (the probes every 20 ms and
+  // the lag's 2.5 ms steps in it); the literature's timings (cfd_timing off: a 0.2 s transit, the
+  // lag r / 1.5 m/s) give 0.094 s.
+  EXPECT_LT(worst, 0.045);
 }
 
 std::string write(const std::string& name, const std::string& text) {
