@@ -30,6 +30,7 @@ constexpr std::initializer_list<FlagOf> kProbeFlags = {
     {"air_probe.timestep_s", "--timestep"},
     {"air_probe.interval_s", "--interval"},
     {"air_probe.end_s", "--end"},
+    {"air_transport.formation", "--air-formation"},
     {"air_transport.formation_time_scale", "--air-formation-time-scale"}};
 
 void run_probe(const ProbeArgs& a) {
@@ -46,11 +47,6 @@ void run_probe(const ProbeArgs& a) {
   const std::vector<ProgramKnot> program = read_nozzle_program(a.program);
   const std::vector<ProbePoint> points = read_probe_points(a.points);
   const CfdField cfd = CfdField::read_dir(a.cfd);
-  if (a.formation && (!cfd.formation() || !cfd.startup())) {
-    throw UsageError("--air-formation: " + a.cfd +
-                     " has no jet start-up (startup_tilt00_d40.json) or no pulse cases "
-                     "(pulse<MS>ms_tilt00_d40.json); see docs/cfd.md");
-  }
   const AirProbeRecord r = with_flags(
       kProbeFlags, [&] { return probe_air(cfd, transport, program, points, a.settings); });
   std::string csv = "t_s,point,x_m,y_m,z_m,ux,uy\n";

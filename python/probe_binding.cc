@@ -48,9 +48,6 @@ std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& pro
   settings.interval_s = interval_s;
   settings.timestep_s = timestep_s;
   if (!cfd) cfd = std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_CFD_DIR));
-  if (formation && (!cfd->formation() || !cfd->startup())) {
-    throw InputError("formation: the CFD cases have no jet start-up or no pulse cases");
-  }
   AirProbeRecord r;
   {
     py::gil_scoped_release release;

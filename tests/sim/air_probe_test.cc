@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -232,6 +233,35 @@ TEST(AirProbe, NearTheNewStagnationPointTheReaimsAirArrivesWhenTheCfdsDoes) {
   // the lag's 2.5 ms steps in it); the literature's timings (cfd_timing off: a 0.2 s transit, the
   // lag r / 1.5 m/s) give 0.094 s.
   EXPECT_LT(worst, 0.045);
+}
+
+// The formation needs the start-up and the pulses beside the cases: without them it is one error
+// naming the field, not air that silently never forms.
+TEST(AirProbe, TheFormationWithoutPulsesIsAnErrorNamingTheField) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / "cases_without_pulses";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* name : {"tilt00.0_mesh1_d20", "tilt22.5_mesh1_d20"}) {
+    for (const char* ext : {".json", ".f32"}) {
+      fs::create_symlink(fs::path(AIRTWIN_SOURCE_DIR "/data/cfd") / (std::string(name) + ext),
+                         dir / (std::string(name) + ext));
+    }
+  }
+  const CfdField bare = CfdField::read_dir(dir.string());
+  ASSERT_EQ(bare.formation(), nullptr);
+  AirTransportParameters params;
+  params.formation = true;
+  try {
+    probe_air(bare, params, {{0.0, {0.0, 0.1}}}, {kPoint}, AirProbeSettings{});
+    FAIL() << "expected an error";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.field(), "air_transport.formation");
+  }
+  params.formation = false;  // the lag alone needs neither
+  EXPECT_EQ(probe_air(bare, params, {{0.0, {0.0, 0.1}}}, {kPoint}, AirProbeSettings{}).t_s.size(),
+            101u);
+  fs::remove_all(dir);
 }
 
 std::string write(const std::string& name, const std::string& text) {
