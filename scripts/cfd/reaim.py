@@ -12,7 +12,7 @@ domain, delta the angle between the velocity and the rod). Two steady cases on t
 blowing at each end tilt, check that this makes the campaign's steady floor field.
 
 Subcommands (used by reaim.sh):
-  list                       the cases: name, from tilt, to tilt
+  list                       the cases: name, from tilt, to tilt, the case whose mesh it shares
   write CASE DIR             the mesh's dictionaries and the rod (the bisector's)
   steady CASE DIR TILT       after meshing: 0/ fields and dictionaries of a steady run blowing at TILT
   transient CASE SRC DIR     the transient from the steady fields in SRC (blowing at the case's
@@ -49,6 +49,7 @@ D = 0.040                 # inlet diameter (m), as the start-up's (same momentum
 SLEW_RAD_S = 7.0          # the servos' top speed (sim/nozzle_actuator.h)
 HOLD_BEFORE_S = 0.1       # the first tilt held this long in the transient before the turn
 HOLD_AFTER_S = 1.0        # the second tilt held this long after the turn
+VISIT_AFTER_S = 0.7       # a visit's first tilt held this long after the turn back
 MAX_CO = 2.0
 PROBE_DT = 0.01
 CSV_DT = 0.02            # the CSV keeps every other probe time (it stays ~3 MB)
@@ -61,7 +62,14 @@ GEN = ("scripts/cfd/reaim.py", "scripts/cfd/reaim.sh")
 
 
 def cases():
-    return [{"name": "reaim_t00.0_t22.5_d40", "from_deg": 0.0, "to_deg": 22.5}]
+    """A re-aim turns from one tilt to another and holds it; a visit (visit_s) holds the second
+    tilt that long and turns back: a sweep's brief pass over the floor. `mesh` names the case
+    whose mesh and steady ends (the same tilts, the same rod) a case shares."""
+    reaim = {"name": "reaim_t00.0_t22.5_d40", "from_deg": 0.0, "to_deg": 22.5}
+    visit = {"name": "visit_t00.0_t22.5_h0.10_d40", "from_deg": 0.0, "to_deg": 22.5, "visit_s": 0.1}
+    for c in (reaim, visit):
+        c.setdefault("mesh", reaim["name"])
+    return [reaim, visit]
 
 
 def find(name):
@@ -203,7 +211,8 @@ def cmd_steady(name, case_dir, tilt_deg):
 
 
 def program(case):
-    """The inlet's tilt over time: (t, tilt_deg) knots, held, turned at SLEW_RAD_S, held."""
+    """The inlet's tilt over time: (t, tilt_deg) knots, held, turned at SLEW_RAD_S, held (a
+    visit: held visit_s, turned back and held)."""
     a, b = case["from_deg"], case["to_deg"]
     slew = math.radians(abs(b - a)) / SLEW_RAD_S
     n = max(2, int(math.ceil(slew / 0.002)))
@@ -211,8 +220,16 @@ def program(case):
     for i in range(n + 1):
         f = i / n
         knots.append((HOLD_BEFORE_S + f * slew, a + f * (b - a)))
-    end = PROBE_DT * math.ceil((HOLD_BEFORE_S + slew + HOLD_AFTER_S) / PROBE_DT - 1e-9)
-    knots.append((end, b))
+    if "visit_s" in case:
+        back = HOLD_BEFORE_S + slew + case["visit_s"]
+        for i in range(n + 1):
+            f = i / n
+            knots.append((back + f * slew, b + f * (a - b)))
+        last, last_tilt = back + slew + VISIT_AFTER_S, a
+    else:
+        last, last_tilt = HOLD_BEFORE_S + slew + HOLD_AFTER_S, b
+    end = PROBE_DT * math.ceil(last / PROBE_DT - 1e-9)
+    knots.append((end, last_tilt))
     return knots, slew, end
 
 
@@ -268,7 +285,9 @@ def cmd_transient(name, src_dir, case_dir):
     write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES_TRANSIENT)
     write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION_TRANSIENT)
     meta = json.load(open(os.path.join(src_dir, "case.json")))
-    meta.update({"kind": "reaim", "started_from_steady_iteration": int(last), "end_time_s": end,
+    meta.update({"case": name, "kind": "visit" if "visit_s" in case else "reaim",
+                 "mesh_case": case["mesh"], "visit_s": case.get("visit_s"),
+                 "started_from_steady_iteration": int(last), "end_time_s": end,
                  "slew_rad_s": SLEW_RAD_S, "slew_s": slew, "turn_start_s": HOLD_BEFORE_S,
                  "max_courant": MAX_CO, "probe_interval_s": PROBE_DT,
                  "program": [{"t_s": t, "tilt_deg": tilt} for t, tilt in knots],
@@ -293,7 +312,7 @@ def cmd_convert(name, case_dir, out_dir):
     meta["csv_interval_s"] = CSV_DT
     meta["probes"] = {"x_m": [float(v) for v in PROBE_X], "y_m": PROBE_Y, "z_m": PROBE_Z}
     for key in ("steady_from", "steady_to"):
-        path = os.path.join(os.path.dirname(case_dir), "%s_%s" % (name, key), "run.json")
+        path = os.path.join(os.path.dirname(case_dir), "%s_%s" % (meta["mesh_case"], key), "run.json")
         if os.path.exists(path):
             meta[key] = json.load(open(path))
     with open(os.path.join(out_dir, name + ".json"), "w") as fh:
@@ -556,7 +575,7 @@ def plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twi
 def main(argv):
     if len(argv) == 2 and argv[1] == "list":
         for c in cases():
-            print("%s %g %g" % (c["name"], c["from_deg"], c["to_deg"]))
+            print("%s %g %g %s" % (c["name"], c["from_deg"], c["to_deg"], c["mesh"]))
     elif len(argv) == 4 and argv[1] == "write":
         cmd_write(argv[2], argv[3])
     elif len(argv) == 5 and argv[1] == "steady":

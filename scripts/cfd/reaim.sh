@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # A re-aim of the rig's jet in 3-D (docs/cfd.md, "A re-aim in 3-D"): the jet held steady at one
-# tilt, turned at the servos' speed to another and held there; written by scripts/cfd/reaim.py,
+# tilt, turned at the servos' speed to another and held there (a visit: held briefly and turned
+# back; cases sharing the tilts share the mesh and steady ends); written by scripts/cfd/reaim.py,
 # meshed by snappyHexMesh, solved by simpleFoam (the two end tilts, steady) and pimpleFoam (the
 # re-aim from the first one's fields), converted into data/cfd/<case>.{json,_floor.csv}.
 # Resumable: each stage leaves a marker in the work directory; an interrupted transient restarts
@@ -36,7 +37,7 @@ case "$np" in 1|2) ;; *) echo "reaim.sh: --np: expected 1 or 2, got '$np'" >&2; 
 mapfile -t cases < <("$py" "$here/reaim.py" list)
 if [ "$list" = 1 ]; then
   for line in "${cases[@]}"; do
-    read -r name from to <<<"$line"
+    read -r name from to _ <<<"$line"
     state="to do"
     [ -f "$out/$name.json" ] && state="done"
     printf '%-24s %5s -> %5s deg: %s\n' "$name" "$from" "$to" "$state"
@@ -128,13 +129,14 @@ steady() {
   touch "$dir/.solved"
 }
 
+# run_case NAME FROM TO MESH: the case NAME on the mesh (and steady ends) of case MESH.
 run_case() {
-  local name="$1" from="$2" to="$3" mesh_dir="$work/${1}_steady_from" dir="$work/$1" t0 msg
+  local name="$1" from="$2" to="$3" mesh="$4" mesh_dir="$work/${4}_steady_from" dir="$work/$1" t0 msg
   if [ ! -f "$mesh_dir/.meshed" ]; then
     rm -rf "$mesh_dir"
     mkdir -p "$mesh_dir"
     t0=$(date +%s)
-    msg=$("$py" "$here/reaim.py" write "$name" "$mesh_dir") || exit 1
+    msg=$("$py" "$here/reaim.py" write "$mesh" "$mesh_dir") || exit 1
     echo "reaim.sh: $msg"
     tool "$mesh_dir" blockMesh blockMesh
     tool "$mesh_dir" surfaceFeatureExtract surfaceFeatureExtract
@@ -145,7 +147,7 @@ run_case() {
   fi
   # the first tilt's steady state (the transient's start); the second's (the reference of the
   # transient's end) after the transient
-  steady "$name" "$mesh_dir" "$from"
+  steady "$mesh" "$mesh_dir" "$from"
   if [ ! -f "$dir/.written" ]; then
     rm -rf "$dir"
     msg=$("$py" "$here/reaim.py" transient "$name" "$mesh_dir" "$dir") || exit 1
@@ -156,23 +158,23 @@ run_case() {
     solver "$dir" pimpleFoam reaim.py
     touch "$dir/.solved"
   fi
-  steady "$name" "$work/${name}_steady_to" "$to"
+  steady "$mesh" "$work/${mesh}_steady_to" "$to"
   msg=$("$py" "$here/reaim.py" convert "$name" "$dir" "$out") || exit 1
   echo "reaim.sh: $msg"
   if [ "$commit" = 1 ]; then
     local files=("${out#"$top"/}/$name.json" "${out#"$top"/}/${name}_floor.csv")
     msg=$(commit_data "$top" "CFD data: $name" \
-      "A 3-D re-aim of the rig's jet from scripts/cfd/reaim.sh (docs/cfd.md)." "${files[@]}") || exit 1
+      "A 3-D re-aim or visit of the rig's jet from scripts/cfd/reaim.sh (docs/cfd.md)." "${files[@]}") || exit 1
     echo "reaim.sh: $msg"
   fi
 }
 
 for line in "${cases[@]}"; do
-  read -r name from to <<<"$line"
+  read -r name from to mesh <<<"$line"
   if [ -f "$out/$name.json" ]; then
     echo "reaim.sh: $name done before; skipped"
     continue
   fi
-  run_case "$name" "$from" "$to"
+  run_case "$name" "$from" "$to" "$mesh"
 done
 exit 0
