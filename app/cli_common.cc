@@ -107,12 +107,17 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
                   "MuJoCo's integrator for the built scene: euler (every calibration's) or\n"
                   "implicit (~20 % slower; survives a tracer tumbling at hundreds of rad/s)")
       ->capture_default_str();
-  sub->add_flag("--air-formation", flags.formation,
-                "With --air cfd: each object's air forms at the rate of the CFD's short pulses\n"
-                "(a swept jet's air arrives weakened; sim/air_transport.h, docs/twin.md)");
+  CLI::Option* on = sub->add_flag(
+      "--air-formation", flags.formation,
+      "In CFD air, each object's air forms at the rate of the CFD's short pulses (a swept jet's\n"
+      "air arrives weakened; sim/air_transport.h, docs/twin.md): the default where the cases\n"
+      "have the jet's start-up and pulses; given, it is an error when they have not");
+  sub->add_flag("--no-air-formation", flags.no_formation,
+                "In CFD air, each object gets the reached orientation's whole air at once")
+      ->excludes(on);
   sub->add_option("--air-formation-time-scale", flags.formation_time_scale,
-                  "With --air-formation: the pulses' formation times times this, in (0, 10]\n"
-                  "(1: the CFD's; for measuring how results depend on them, docs/twin.md)")
+                  "The formation's times: the pulses' times this, in (0, 10] (0.5: the 3-D CFD\n"
+                  "of a re-aim, docs/cfd.md; other values for measuring how results depend on it)")
       ->capture_default_str();
 }
 
@@ -131,8 +136,13 @@ void check_air_flags(const AirFlags& flags) {
   if (flags.air == "model" && flags.formation) {
     throw UsageError("--air-formation needs --air cfd");
   }
-  if (flags.formation_time_scale != 1.0 && !flags.formation) {
-    throw UsageError("--air-formation-time-scale needs --air-formation");
+  const bool default_scale =
+      flags.formation_time_scale == AirTransportParameters{}.formation_time_scale;
+  if (!default_scale && flags.air == "model") {
+    throw UsageError("--air-formation-time-scale needs --air cfd");
+  }
+  if (!default_scale && flags.no_formation) {
+    throw UsageError("--air-formation-time-scale needs the formation (drop --no-air-formation)");
   }
   AirTransportParameters transport;
   transport.formation_time_scale = flags.formation_time_scale;
@@ -155,7 +165,7 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     twin->cfd_air.reset();
     return;
   }
-  twin->air_transport.formation = flags.formation;
+  twin->air_transport.formation = !flags.no_formation;
   twin->air_transport.formation_time_scale = flags.formation_time_scale;
   // One copy per folder in the process: a batch builds many twins from the same cases.
   static std::mutex mutex;
@@ -163,10 +173,8 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
   const std::lock_guard<std::mutex> lock(mutex);
   std::shared_ptr<const CfdField>& field = loaded[flags.cfd_dir];
   if (!field) field = std::make_shared<const CfdField>(CfdField::read_dir(flags.cfd_dir));
-  if (flags.formation && (!field->formation() || !field->startup())) {
-    throw UsageError("--air-formation: " + flags.cfd_dir +
-                     " has no jet start-up (startup_tilt00_d40.json) or no pulse cases "
-                     "(pulse<MS>ms_tilt00_d40.json); see docs/cfd.md");
+  if (flags.formation && !field->forms_air()) {
+    throw UsageError("--air-formation: " + flags.cfd_dir + " lacks " + CfdField::kFormationData);
   }
   twin->cfd_air = field;
 }
@@ -174,9 +182,9 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
 std::string air_identity(const AirFlags& flags) {
   std::string drag = ", drag " + flags.drag;
   for (const std::string& text : flags.object_physics) drag += ", " + text;
-  if (flags.formation) drag += ", air formation";
-  if (flags.formation_time_scale != 1.0) {
-    drag += " (times x" + format_number(flags.formation_time_scale) + ")";
+  if (flags.air == "cfd") {
+    drag += flags.no_formation ? ", no air formation"
+                               : ", air formation x" + format_number(flags.formation_time_scale);
   }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;

@@ -73,21 +73,24 @@ struct AirFlags {
   std::string drag = "eq8";               ///< the objects' drag law: eq8 | physical
   /// --object-physics TYPE:key=value,... (sim/object_physics.h), applied in order after --drag.
   std::vector<std::string> object_physics;
-  /// --air-formation: the wall jet's formation from the CFD's pulses (sim/air_transport.h).
+  /// The wall jet's formation from the CFD's pulses (sim/air_transport.h) is on in CFD air
+  /// whose cases have them. --air-formation asks for it (an error when the cases cannot form
+  /// the air); --no-air-formation switches it off.
   bool formation = false;
-  /// --air-formation-time-scale: AirTransportParameters::formation_time_scale (1: the CFD's).
-  double formation_time_scale = 1.0;
+  bool no_formation = false;
+  /// --air-formation-time-scale: AirTransportParameters::formation_time_scale.
+  double formation_time_scale = AirTransportParameters{}.formation_time_scale;
   /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
   std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
-/// euler|implicit, --air-formation and --air-formation-time-scale to `sub`.
+/// euler|implicit, --air-formation, --no-air-formation and --air-formation-time-scale to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
-/// UsageError naming --air, --cfd, --drag, --integrator, --air-formation or
-/// --air-formation-time-scale for a value none of
-/// them takes. Reads no file.
+/// UsageError naming --air, --cfd, --drag, --integrator, --air-formation,
+/// --no-air-formation or --air-formation-time-scale for a value or a combination none of them
+/// takes. Reads no file.
 void check_air_flags(const AirFlags& flags);
 
 /// Checks the flags (check_air_flags), then sets twin->cfd_air: the CFD cases of --cfd's folder

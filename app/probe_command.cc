@@ -21,8 +21,9 @@ struct ProbeArgs {
   std::string points;
   std::string out;
   std::string cfd = AIRTWIN_CFD_DIR;
-  bool formation = false;
-  double formation_time_scale = 1.0;
+  bool formation = false;     // --air-formation: asked for (an error when the cases lack it)
+  bool no_formation = false;  // --no-air-formation
+  double formation_time_scale = AirTransportParameters{}.formation_time_scale;
   AirProbeSettings settings;
 };
 
@@ -30,15 +31,14 @@ constexpr std::initializer_list<FlagOf> kProbeFlags = {
     {"air_probe.timestep_s", "--timestep"},
     {"air_probe.interval_s", "--interval"},
     {"air_probe.end_s", "--end"},
-    {"air_transport.formation", "--air-formation"},
     {"air_transport.formation_time_scale", "--air-formation-time-scale"}};
 
 void run_probe(const ProbeArgs& a) {
-  if (a.formation_time_scale != 1.0 && !a.formation) {
-    throw UsageError("--air-formation-time-scale needs --air-formation");
-  }
   AirTransportParameters transport;
-  transport.formation = a.formation;
+  if (a.formation_time_scale != transport.formation_time_scale && a.no_formation) {
+    throw UsageError("--air-formation-time-scale needs the formation (drop --no-air-formation)");
+  }
+  transport.formation = !a.no_formation;
   transport.formation_time_scale = a.formation_time_scale;
   with_flags(kProbeFlags, [&] {
     a.settings.validate();
@@ -47,6 +47,9 @@ void run_probe(const ProbeArgs& a) {
   const std::vector<ProgramKnot> program = read_nozzle_program(a.program);
   const std::vector<ProbePoint> points = read_probe_points(a.points);
   const CfdField cfd = CfdField::read_dir(a.cfd);
+  if (a.formation && !cfd.forms_air()) {
+    throw UsageError("--air-formation: " + a.cfd + " lacks " + CfdField::kFormationData);
+  }
   const AirProbeRecord r = with_flags(
       kProbeFlags, [&] { return probe_air(cfd, transport, program, points, a.settings); });
   std::string csv = "t_s,point,x_m,y_m,z_m,ux,uy\n";
@@ -73,7 +76,7 @@ void add_probe_command(CLI::App& app) {
       "probe",
       "The twin's air at fixed floor points while the nozzle follows a program: the mean air an\n"
       "object standing there would feel (the CFD's air of the orientation whose wall jet has\n"
-      "reached it, formed over time with --air-formation; before turbulence, the jet fully on).\n"
+      "reached it, formed over time as in the twin; before turbulence, the jet fully on).\n"
       "For checking the twin's moving air against a transient CFD or the rig's anemometers.\n"
       "Program CSV: t_s,pan_deg,tilt_deg (the nozzle's orientation, linear between rows, held\n"
       "outside them); points CSV: x_m,y_m[,z_m] (z default 0.015 m). Writes\n"
@@ -82,10 +85,15 @@ void add_probe_command(CLI::App& app) {
   sub->add_option("--points", args->points, "Probe points CSV")->required();
   sub->add_option("--out", args->out, "Output CSV")->required();
   sub->add_option("--cfd", args->cfd, "The folder of CFD cases")->capture_default_str();
-  sub->add_flag("--air-formation", args->formation,
-                "The wall jet's formation at the rate of the CFD's short pulses");
+  CLI::Option* on = sub->add_flag(
+      "--air-formation", args->formation,
+      "The wall jet's formation at the rate of the CFD's short pulses (the default where the\n"
+      "cases have the start-up and pulses; given, an error when they have not)");
+  sub->add_flag("--no-air-formation", args->no_formation,
+                "The reached orientation's whole air at once")
+      ->excludes(on);
   sub->add_option("--air-formation-time-scale", args->formation_time_scale,
-                  "With --air-formation: the pulses' formation times times this, in (0, 10]")
+                  "The formation's times: the pulses' times this, in (0, 10]")
       ->capture_default_str();
   sub->add_option("--timestep", args->settings.timestep_s, "The twin's physics step (s)")
       ->capture_default_str();

@@ -27,7 +27,8 @@
 //                            from its own lagged orientation.
 //   BM_TwinStep/tracers_25_cfd_rigid: the same with the rigid floor pattern (no lag), the
 //                            reference the lag's cost is read against in the same run.
-//   BM_TwinStep/tracers_25_cfd_formed: the same with the wall jet's formation (--air-formation).
+//   BM_TwinStep/tracers_25_cfd_formed: the same with the wall jet's formation (the default in
+//                            CFD air; tracers_25_cfd leaves it out, --no-air-formation).
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
 // 25-tracer scene), ratio_free (twin / free-running bare step rate), solver_iter and

@@ -244,6 +244,10 @@ Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, double z_m
           (plane_at(p_, x_m, y_m + hy, z_m) - plane_at(p_, x_m, y_m - hy, z_m)) / (2.0 * hy)};
 }
 
+const char* CfdField::kFormationData =
+    "the jet's start-up (startup_tilt00_d40.json) and pulse cases (pulse<MS>ms_tilt00_d40.json; "
+    "docs/cfd.md)";
+
 CfdField::CfdField(std::vector<CfdCase> cases, NozzleGeometry geometry,
                    std::optional<CfdStartup> startup, std::optional<WallJetFormation> formation)
     : cases_(std::move(cases)),

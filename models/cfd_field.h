@@ -152,6 +152,11 @@ class CfdField {
   const CfdStartup* startup() const { return startup_ ? &*startup_ : nullptr; }
   /// The wall jet's formation (models/wall_jet_formation.h) if the cases came with pulses.
   const WallJetFormation* formation() const { return formation_ ? &*formation_ : nullptr; }
+  /// True when the cases can form the twin's air over time: they came with the start-up (the
+  /// lag) and pulses (the formation's time).
+  bool forms_air() const { return startup_ && formation_; }
+  /// What forms_air() needs, for errors: "the jet's start-up (...) and pulse cases (...)".
+  static const char* kFormationData;
 
   /// The field of orientation `o`. InputError when the tilt is outside [min_tilt_rad,
   /// max_tilt_rad].

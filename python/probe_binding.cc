@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,7 +26,7 @@ namespace {
 std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& program,
                                                           const DoubleArray& points,
                                                           std::shared_ptr<const CfdField> cfd,
-                                                          bool formation,
+                                                          std::optional<bool> formation,
                                                           double formation_time_scale, double end_s,
                                                           double interval_s, double timestep_s) {
   const py::ssize_t knots = rows_of(program, 3, "program");
@@ -41,13 +42,19 @@ std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& pro
     pts.push_back({{points.at(i, 0), points.at(i, 1)}, points.at(i, 2)});
   }
   AirTransportParameters params;
-  params.formation = formation;
+  params.formation = formation.value_or(true);
+  if (!params.formation && formation_time_scale != params.formation_time_scale) {
+    throw FieldError("formation_time_scale", "needs the formation (formation not False)");
+  }
   params.formation_time_scale = formation_time_scale;
   AirProbeSettings settings;
   settings.end_s = end_s;
   settings.interval_s = interval_s;
   settings.timestep_s = timestep_s;
   if (!cfd) cfd = std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_CFD_DIR));
+  if (formation.value_or(false) && !cfd->forms_air()) {
+    throw FieldError("formation", std::string("the CFD cases lack ") + CfdField::kFormationData);
+  }
   AirProbeRecord r;
   {
     py::gil_scoped_release release;
@@ -72,8 +79,9 @@ std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& pro
 
 void bind_probe(py::module_& m) {
   m.def("probe_air", &probe, py::arg("program"), py::arg("points"), py::arg("cfd") = nullptr,
-        py::arg("formation") = false, py::arg("formation_time_scale") = 1.0, py::arg("end_s") = 1.0,
-        py::arg("interval_s") = 0.01, py::arg("timestep_s") = 0.0025,
+        py::arg("formation") = py::none(),
+        py::arg("formation_time_scale") = AirTransportParameters{}.formation_time_scale,
+        py::arg("end_s") = 1.0, py::arg("interval_s") = 0.01, py::arg("timestep_s") = 0.0025,
         "The twin's mean air at fixed floor points while the nozzle follows a program, as "
         "`airtwin probe` (docs/twin.md): program K x 3 rows (t_s, pan_deg, tilt_deg), linear "
         "between them; points N x 3 (x_m, y_m, z_m); cfd a CfdField (default: the shipped "

@@ -209,7 +209,8 @@ void bind_run(py::module_& m) {
          const std::string& air, const std::string& drag,
          const std::vector<std::string>& object_physics, const std::vector<std::string>& effects,
          const std::string& mjcf, const std::string& table, const std::vector<std::string>& models,
-         bool air_formation, double air_formation_time_scale, const std::string& integrator) {
+         std::optional<bool> air_formation, double air_formation_time_scale,
+         const std::string& integrator) {
         return run(scenario_path, seed,
                    TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf,
                              air_formation, air_formation_time_scale, integrator},
@@ -218,12 +219,14 @@ void bind_run(py::module_& m) {
       py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
       py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
       py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "", py::arg("table") = "",
-      py::arg("models") = std::vector<std::string>{}, py::arg("air_formation") = false,
-      py::arg("air_formation_time_scale") = 1.0, py::arg("integrator") = "euler",
+      py::arg("models") = std::vector<std::string>{}, py::arg("air_formation") = py::none(),
+      py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
+      py::arg("integrator") = "euler",
       "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth), as "
       "`airtwin run SCENARIO --seed N` does; the twin's set-up as Twin's (air, cfd, drag, "
       "object_physics, effects, mjcf, air_formation, air_formation_time_scale, integrator: the "
-      "flags --air, --cfd, --drag, --object-physics, --effect, --mjcf, --air-formation, "
+      "flags --air, --cfd, --drag, --object-physics, --effect, --mjcf, --air-formation (None: "
+      "the default, True: --air-formation, False: --no-air-formation), "
       "--air-formation-time-scale, --integrator); the controller's field model `table` "
       "(a table CSV or field-model "
       "JSON, as --table; default the built-in table) and `models` (model.json or "
@@ -246,34 +249,35 @@ void bind_run(py::module_& m) {
   py::class_<PyEpisode>(m, "Episode",
                         "A closed-loop run one turn at a time (runs/scenario_episode.h); the "
                         "base of airtwin.env.AirJetEnv.")
-      .def(
-          py::init([](const std::string& scenario_path, uint64_t seed,
-                      std::shared_ptr<const CfdField> cfd, const std::string& air,
-                      const std::string& drag, const std::vector<std::string>& object_physics,
-                      const std::vector<std::string>& effects, const std::string& mjcf,
-                      const std::string& table, const std::vector<std::string>& models, bool vision,
-                      const std::string& calib, const std::string& calib_dir, double vision_rate_hz,
-                      double noise_sigma_grey, double blur_sigma_px, bool air_formation,
-                      double air_formation_time_scale, const std::string& integrator) {
-            return std::make_unique<PyEpisode>(
-                scenario_path, seed,
-                TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf, air_formation,
-                          air_formation_time_scale, integrator},
-                ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
-                noise_sigma_grey, blur_sigma_px);
-          }),
-          py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
-          py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
-          py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
-          py::arg("table") = "", py::arg("models") = std::vector<std::string>{},
-          py::arg("vision") = false, py::arg("calib") = "", py::arg("calib_dir") = "",
-          py::arg("vision_rate_hz") = 10.0, py::arg("noise_sigma_grey") = 0.0,
-          py::arg("blur_sigma_px") = 0.0, py::arg("air_formation") = false,
-          py::arg("air_formation_time_scale") = 1.0, py::arg("integrator") = "euler",
-          "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
-          "models); vision: the controller sees "
-          "through the detection pipeline on rendered frames (as --vision), with the camera "
-          "model `calib` (a calib.yaml) or the twin's camera calibrated into `calib_dir`.")
+      .def(py::init([](const std::string& scenario_path, uint64_t seed,
+                       std::shared_ptr<const CfdField> cfd, const std::string& air,
+                       const std::string& drag, const std::vector<std::string>& object_physics,
+                       const std::vector<std::string>& effects, const std::string& mjcf,
+                       const std::string& table, const std::vector<std::string>& models,
+                       bool vision, const std::string& calib, const std::string& calib_dir,
+                       double vision_rate_hz, double noise_sigma_grey, double blur_sigma_px,
+                       std::optional<bool> air_formation, double air_formation_time_scale,
+                       const std::string& integrator) {
+             return std::make_unique<PyEpisode>(
+                 scenario_path, seed,
+                 TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf, air_formation,
+                           air_formation_time_scale, integrator},
+                 ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
+                 noise_sigma_grey, blur_sigma_px);
+           }),
+           py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
+           py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
+           py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
+           py::arg("table") = "", py::arg("models") = std::vector<std::string>{},
+           py::arg("vision") = false, py::arg("calib") = "", py::arg("calib_dir") = "",
+           py::arg("vision_rate_hz") = 10.0, py::arg("noise_sigma_grey") = 0.0,
+           py::arg("blur_sigma_px") = 0.0, py::arg("air_formation") = py::none(),
+           py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
+           py::arg("integrator") = "euler",
+           "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
+           "models); vision: the controller sees "
+           "through the detection pipeline on rendered frames (as --vision), with the camera "
+           "model `calib` (a calib.yaml) or the twin's camera calibrated into `calib_dir`.")
       .def_property_readonly("finished", [](PyEpisode& e) { return e.episode().finished(); })
       .def_property_readonly(
           "done", [](PyEpisode& e) { return e.episode().controller().progress().done(); },

@@ -154,7 +154,7 @@ void bind_twin(py::module_& m) {
                        const std::string& air, const std::string& drag,
                        const std::vector<std::string>& object_physics,
                        const std::vector<std::string>& effects, const std::string& mjcf,
-                       bool air_formation, double air_formation_time_scale,
+                       std::optional<bool> air_formation, double air_formation_time_scale,
                        const std::string& integrator) {
              const TwinSetup setup{
                  air,           std::move(cfd),           drag,      object_physics, effects, mjcf,
@@ -166,7 +166,8 @@ void bind_twin(py::module_& m) {
            py::arg("air") = "", py::arg("drag") = "eq8",
            py::arg("object_physics") = std::vector<std::string>{},
            py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
-           py::arg("air_formation") = false, py::arg("air_formation_time_scale") = 1.0,
+           py::arg("air_formation") = py::none(),
+           py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
            py::arg("integrator") = "euler",
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
@@ -174,10 +175,10 @@ void bind_twin(py::module_& m) {
            "CfdField, or the shipped cases), default the CFD's when `cfd` is given; drag 'eq8' "
            "or 'physical'; object_physics ['TYPE:key=value,...']; effects "
            "['NAME:key=value,...']; mjcf, a user's MJCF scene; air_formation, the wall jet's "
-           "formation in the CFD's air (--air-formation; docs/twin.md), air_formation_time_scale "
-           "its "
-           "times' factor (--air-formation-time-scale); integrator 'euler' or 'implicit' "
-           "(--integrator).")
+           "formation in the CFD's air (docs/twin.md): None on where the cases have it, True "
+           "asks for it (--air-formation), False switches it off (--no-air-formation); "
+           "air_formation_time_scale its times' factor (--air-formation-time-scale); integrator "
+           "'euler' or 'implicit' (--integrator).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

@@ -33,17 +33,21 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
   } else {
     throw FieldError("air", "expected cfd or model, got '" + setup.air + "'");
   }
-  if (setup.air_formation) {
+  // The formation: on where the CFD's cases can form the air unless switched off.
+  const bool default_scale =
+      setup.air_formation_time_scale == AirTransportParameters{}.formation_time_scale;
+  if (setup.air_formation.value_or(false)) {
     if (!params.cfd_air) throw FieldError("air_formation", "needs the CFD's air (air 'cfd')");
-    if (!params.cfd_air->formation() || !params.cfd_air->startup()) {
+    if (!params.cfd_air->forms_air()) {
       throw FieldError("air_formation",
-                       "the CFD cases have no jet start-up or no pulses (docs/cfd.md)");
+                       std::string("the CFD cases lack ") + CfdField::kFormationData);
     }
-    params.air_transport.formation = true;
   }
-  if (setup.air_formation_time_scale != 1.0) {
-    if (!setup.air_formation) {
-      throw FieldError("air_formation_time_scale", "needs the formation (air_formation True)");
+  params.air_transport.formation = setup.air_formation.value_or(true);
+  if (!default_scale) {
+    if (!params.cfd_air || !params.air_transport.formation) {
+      throw FieldError("air_formation_time_scale",
+                       "needs the formation (the CFD's air, air_formation not False)");
     }
     params.air_transport.formation_time_scale = setup.air_formation_time_scale;
     params.air_transport.validate();

@@ -1,11 +1,13 @@
 #pragma once
 // The twin's set-up as Python callers give it, for Twin and the environment alike: the options
 // `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
-// --mjcf, --air-formation, --air-formation-time-scale and --integrator, validated by the libraries
+// --mjcf, --air-formation / --no-air-formation, --air-formation-time-scale and --integrator,
+// validated by the libraries
 // that own them, so a bad value raises ValueError with the library's message (the field or the
 // effect named, never a flag).
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,10 +27,12 @@ struct TwinSetup {
   std::vector<std::string> object_physics;  ///< "TYPE:key=value,..." in order, after drag
   std::vector<std::string> effects;         ///< "NAME[:key=value,...]" (sim/effects.h)
   std::string mjcf;                         ///< a user's MJCF scene; "": built
-  /// The wall jet's formation in the CFD's air (--air-formation, sim/air_transport.h).
-  bool air_formation = false;
-  /// With air_formation: the pulses' formation times times this (--air-formation-time-scale).
-  double air_formation_time_scale = 1.0;
+  /// The wall jet's formation in the CFD's air (sim/air_transport.h): unset, on where the cases
+  /// have the start-up and pulses; true asks for it (--air-formation: an error where they have
+  /// not); false switches it off (--no-air-formation).
+  std::optional<bool> air_formation;
+  /// The formation's times: the pulses' times this (--air-formation-time-scale).
+  double air_formation_time_scale = AirTransportParameters{}.formation_time_scale;
   /// MuJoCo's integrator for the built scene: "euler" | "implicit" (--integrator).
   std::string integrator = "euler";
 };

@@ -6,10 +6,11 @@
 # 20.9 cm^2), seeds 1..N, planning with that model. Ends with the batch report (success rates,
 # median times and path errors) to set beside Table I.
 # Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--physics TYPE:k=v,...]
-#        [--formation [--formation-time-scale X]] [--model FILE] [--airtwin PATH] [--out DIR]
-#   --formation  the twin's air forms at the CFD pulses' rate (airtwin's --air-formation)
-#   --formation-time-scale X  the pulses' formation times times X (airtwin's
-#                --air-formation-time-scale)
+#        [--no-formation | --formation-time-scale X] [--model FILE] [--airtwin PATH] [--out DIR]
+#   --no-formation  each object gets the reached orientation's whole air at once (airtwin's
+#                --no-air-formation; by default the air forms, at half the CFD pulses' times)
+#   --formation-time-scale X  the formation's times: the pulses' times X (airtwin's
+#                --air-formation-time-scale; default 0.5)
 #   --model FILE plan with this identified model instead of collecting and identifying one
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,13 +24,13 @@ model=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --seeds) seeds="$2"; shift 2 ;;
-    --formation) formation+=(--air-formation); shift ;;
+    --no-formation) formation+=(--no-air-formation); shift ;;
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
     --model) model="$2"; shift 2 ;;
     --physics) physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done

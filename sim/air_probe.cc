@@ -102,11 +102,6 @@ AirProbeRecord probe_air(const CfdField& cfd, const AirTransportParameters& para
                        "].t_s: expected a time after the previous knot's");
     }
   }
-  if (params.formation && (!cfd.formation() || !cfd.startup())) {
-    throw FieldError("air_transport.formation",
-                     "the CFD cases have no jet start-up (startup_tilt00_d40.json) or no pulse "
-                     "cases (pulse<MS>ms_tilt00_d40.json) to form the air from; see docs/cfd.md");
-  }
   const double transit =
       params.cfd_timing && cfd.startup() ? cfd.startup()->transit_s() : settings.field_delay_s;
   const double dt = settings.timestep_s;

@@ -58,9 +58,9 @@ std::vector<ProbePoint> read_probe_points(const std::string& path);
 NozzleOrientation program_at(const std::vector<ProgramKnot>& program, double t_s);
 
 /// Records the air at `points` every settings.interval_s from 0 to settings.end_s. The air has
-/// been at rest at the program's first orientation for long before t = 0. InputError naming the
-/// knot for an empty program or decreasing times, FieldError air_transport.formation when the
-/// formation is asked for and the cases have no start-up or pulses; CfdField's for an
+/// been at rest at the program's first orientation for long before t = 0. It forms over time when
+/// params.formation is set and the cases have what that needs (CfdField::forms_air), as in the
+/// twin. InputError naming the knot for an empty program or decreasing times; CfdField's for an
 /// orientation outside its tilts.
 AirProbeRecord probe_air(const CfdField& cfd, const AirTransportParameters& params,
                          const std::vector<ProgramKnot>& program,

@@ -63,14 +63,13 @@ struct AirTransportParameters {
   bool cfd_timing = true;
   /// In the CFD's air, when its cases come with pulses (CfdField::formation) and cfd_timing is
   /// set: the wall jet's first-order formation (top of this file); false hands each point the
-  /// reached orientation's whole air at once. Off by default until the physical drag is
-  /// calibrated with it: with the drag calibrated without it, the Appendix D identification
-  /// loses eq. (8)'s air term (docs/twin.md).
-  bool formation = false;
-  /// With the formation: the pulses' tau(r) times this. 1 is the CFD's. URANS k-epsilon smears a
-  /// pulse's head (docs/cfd.md), so the true formation may be faster; this is for measuring how
-  /// the results depend on it, in (0, 10].
-  double formation_time_scale = 1.0;
+  /// reached orientation's whole air at once.
+  bool formation = true;
+  /// With the formation: the pulses' tau(r) times this, in (0, 10]. 0.5 by default: the 3-D CFD
+  /// of a re-aim (docs/cfd.md, "A re-aim in 3-D") rises from a quarter to three quarters of its
+  /// new air in a median 0.09-0.10 s 0.1-0.7 m from the new s, half the pulses' time there
+  /// (URANS k-epsilon smears a pulse's head, and a re-aimed jet meets air already moving).
+  double formation_time_scale = 0.5;
   /// No lag: the floor pattern swings rigidly with the effective orientation.
   static AirTransportParameters rigid() { return {0.0, 0.0, false, false}; }
   /// Throws InputError naming the field unless every value is finite and in range.

@@ -106,8 +106,9 @@ class AirJetEnv:
     is calibrated once, at the first reset, with that reset's seed). The twin's set-up as the
     CLI's flags and Twin's: air ('model' | 'cfd'), cfd (a CfdField), drag ('eq8' | 'physical'),
     object_physics and effects (lists of 'NAME:key=value,...'), mjcf (a user's MJCF scene),
-    air_formation (the wall jet's formation in the CFD's air, --air-formation),
-    air_formation_time_scale (--air-formation-time-scale), integrator ('euler' | 'implicit');
+    air_formation (the wall jet's formation in the CFD's air: None on where the cases have it,
+    True --air-formation, False --no-air-formation), air_formation_time_scale
+    (--air-formation-time-scale), integrator ('euler' | 'implicit');
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
     controller's field model and the twin's analytical air), models (model.json or
     extended_model.json files; controller_action() plans with them). Bad values raise
@@ -125,7 +126,7 @@ class AirJetEnv:
     def __init__(self, task="line", seed=0, action_type="stagnation", vision=False, calib=None,
                  vision_rate_hz=10.0, noise_sigma_grey=0.0, blur_sigma_px=0.0, air="",
                  cfd=None, drag="eq8", object_physics=(), effects=(), mjcf="", table="",
-                 models=(), air_formation=False, air_formation_time_scale=1.0,
+                 models=(), air_formation=None, air_formation_time_scale=0.5,
                  integrator="euler"):
         if action_type not in ("stagnation", "orientation"):
             raise ValueError("action_type: expected stagnation or orientation, got '%s'"
@@ -136,7 +137,8 @@ class AirJetEnv:
         self._seed = int(seed)
         self._setup = dict(cfd=cfd, air=air, drag=drag, object_physics=list(object_physics),
                            effects=list(effects), mjcf=mjcf or "", table=table or "",
-                           models=list(models), air_formation=bool(air_formation),
+                           models=list(models),
+                           air_formation=None if air_formation is None else bool(air_formation),
                            air_formation_time_scale=float(air_formation_time_scale),
                            integrator=str(integrator))
         self._vision = dict(vision=bool(vision), calib=calib or "", vision_rate_hz=vision_rate_hz,

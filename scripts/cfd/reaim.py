@@ -446,8 +446,9 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     end = float(t[-1])
     _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
     ub_twin = ub_twin[-1]
-    formations = [("no formation", [])] + [("formation x%g" % f, ["--air-formation"] + (
-        ["--air-formation-time-scale", "%g" % f] if f != 1.0 else [])) for f in SCALES]
+    formations = [("no formation", ["--no-air-formation"])] + [
+        ("formation x%g" % f, ["--air-formation", "--air-formation-time-scale", "%g" % f])
+        for f in SCALES]
     twin = {}
     for transit, program_csv in programs.items():
         for flabel, extra in formations:

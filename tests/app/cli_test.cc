@@ -164,8 +164,12 @@ TEST(Cli, ProbeWritesTheTwinsAirAtItsPoints) {
                      "/points.csv --interval 0.003 --out " + dir + "/o.csv",
                  2, "--interval");
   expect_failure("probe --program " + dir + "/program.csv --points " + dir +
-                     "/points.csv --air-formation-time-scale 0.5 --out " + dir + "/o.csv",
-                 2, "--air-formation");
+                     "/points.csv --no-air-formation --air-formation-time-scale 0.25 --out " + dir +
+                     "/o.csv",
+                 2, "--air-formation-time-scale needs the formation");
+  expect_failure("probe --program " + dir + "/program.csv --points " + dir +
+                     "/points.csv --no-air-formation --air-formation --out " + dir + "/o.csv",
+                 2, "excludes");
   expect_failure("probe --program " + dir + "/missing.csv --points " + dir + "/points.csv --out " +
                      dir + "/o.csv",
                  1, "missing.csv");

@@ -142,8 +142,13 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --air wind --out x.csv", "--air: expected cfd or model, got 'wind'");
   expect_usage_error("collect --cfd data --out x.csv", "--cfd needs --air cfd");
   expect_usage_error("collect --drag glue --out x.csv", "--drag: expected eq8 or physical");
-  expect_usage_error("collect --air cfd --air-formation-time-scale 0.5 --out x.csv",
-                     "--air-formation-time-scale needs --air-formation");
+  expect_usage_error(
+      "collect --air cfd --no-air-formation --air-formation-time-scale 1 --out x.csv",
+      "--air-formation-time-scale needs the formation (drop --no-air-formation)");
+  expect_usage_error("collect --air-formation-time-scale 1 --out x.csv",
+                     "--air-formation-time-scale needs --air cfd");
+  expect_usage_error("collect --air cfd --air-formation --no-air-formation --out x.csv",
+                     "excludes");
   expect_usage_error("collect --air cfd --air-formation --air-formation-time-scale 11 --out x.csv",
                      "--air-formation-time-scale: expected (0, 10]");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");

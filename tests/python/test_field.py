@@ -128,15 +128,14 @@ def test_probe_air_equals_the_cli_probe_to_its_printed_digits(tmp_path):
     program = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.156, 0.0, 22.5]])
     points = np.array([[0.3, 0.0005, 0.004], [0.7, 0.2, 0.015], [-0.2, 0.1, 0.004]])
     cfd = airtwin.CfdField.read_dir()
-    t, u = airtwin.probe_air(program, points, cfd=cfd, formation=True, end_s=0.8,
-                             interval_s=0.02)
+    t, u = airtwin.probe_air(program, points, cfd=cfd, end_s=0.8, interval_s=0.02)
     assert t.shape == (41,) and u.shape == (41, 3, 2)
     with open(tmp_path / "program.csv", "w") as f:
         f.write("t_s,pan_deg,tilt_deg\n" + "".join("%r,%r,%r\n" % tuple(r) for r in program))
     with open(tmp_path / "points.csv", "w") as f:
         f.write("x_m,y_m,z_m\n" + "".join("%r,%r,%r\n" % tuple(r) for r in points))
     status, _, stderr = run_cli("probe", "--program", tmp_path / "program.csv", "--points",
-                                tmp_path / "points.csv", "--air-formation", "--end", 0.8,
+                                tmp_path / "points.csv", "--end", 0.8,
                                 "--interval", 0.02, "--out", tmp_path / "u.csv")
     assert status == 0, stderr
     with open(tmp_path / "u.csv", newline="") as f:
@@ -144,6 +143,12 @@ def test_probe_air_equals_the_cli_probe_to_its_printed_digits(tmp_path):
     np.testing.assert_allclose(u.reshape(-1, 2), rows, atol=6e-6)
     # the air changes: the old jet's at the start, the new one's at the end
     assert np.linalg.norm(u[-1] - u[0], axis=1).max() > 1.0
+    # it forms over time by default: without the formation the new air comes at once
+    _, whole = airtwin.probe_air(program, points, cfd=cfd, formation=False, end_s=0.8,
+                                 interval_s=0.02)
+    assert np.abs(whole - u).max() > 0.5
+    with pytest.raises(ValueError, match="formation_time_scale"):
+        airtwin.probe_air(program, points, formation=False, formation_time_scale=0.25)
     with pytest.raises(ValueError, match="air_probe.interval_s"):
         airtwin.probe_air(program, points, interval_s=0.003)
     with pytest.raises(ValueError, match="points"):

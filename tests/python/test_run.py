@@ -54,19 +54,23 @@ def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
     assert result.log_csv() != airtwin.run_scenario(str(scenario), 1).log_csv()
 
 
-def test_a_run_with_the_air_formation_equals_the_cli_run(tmp_path):
+def test_a_run_with_and_without_the_air_formation_equals_the_cli_run(tmp_path):
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
-    out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--air-formation",
-                                "--quiet", "--out", out)
-    assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir()
-    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True)
+    # The formation is on by default in the CFD's air; asking for it changes nothing.
+    formed = airtwin.run_scenario(str(scenario), 1, cfd=cfd)
+    assert formed.log_csv() == airtwin.run_scenario(str(scenario), 1, cfd=cfd,
+                                                    air_formation=True).log_csv()
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+                                "--no-air-formation", "--quiet", "--out", out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=False)
     assert result.log_csv() == (out / "log.csv").read_text()
-    # The formation changes the air after every re-aim: the same run without it goes elsewhere.
-    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1, cfd=cfd).log_csv()
-    # Only in the CFD's air, in both front ends.
+    # The formation changes the air after every re-aim: the same run with it goes elsewhere.
+    assert result.log_csv() != formed.log_csv()
+    # Asked for in the model's air: an error in both front ends.
     with pytest.raises(ValueError, match="air_formation"):
         airtwin.run_scenario(str(scenario), 1, air="model", air_formation=True)
     status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-formation", "--out",
@@ -78,26 +82,26 @@ def test_the_integrator_and_the_formation_time_scale_equal_the_cli_run(tmp_path)
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--air-formation",
-                                "--air-formation-time-scale", 0.5, "--integrator", "implicit",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+                                "--air-formation-time-scale", 0.25, "--integrator", "implicit",
                                 "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir()
-    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True,
-                                  air_formation_time_scale=0.5, integrator="implicit")
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=0.25,
+                                  integrator="implicit")
     assert result.log_csv() == (out / "log.csv").read_text()
     # Each changes the run: the same without either goes elsewhere.
     assert result.log_csv() != airtwin.run_scenario(
-        str(scenario), 1, cfd=cfd, air_formation=True, integrator="implicit").log_csv()
+        str(scenario), 1, cfd=cfd, integrator="implicit").log_csv()
     assert result.log_csv() != airtwin.run_scenario(
-        str(scenario), 1, cfd=cfd, air_formation=True, air_formation_time_scale=0.5).log_csv()
+        str(scenario), 1, cfd=cfd, air_formation_time_scale=0.25).log_csv()
     with pytest.raises(ValueError, match="integrator: expected euler or implicit, got 'rk4'"):
         airtwin.run_scenario(str(scenario), 1, integrator="rk4")
     with pytest.raises(ValueError, match="air_formation_time_scale"):
-        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=0.5)
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=False,
+                             air_formation_time_scale=0.25)
     with pytest.raises(ValueError, match="formation_time_scale"):
-        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=True,
-                             air_formation_time_scale=-1.0)
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=-1.0)
 
 
 def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):

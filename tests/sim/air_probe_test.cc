@@ -235,9 +235,9 @@ TEST(AirProbe, NearTheNewStagnationPointTheReaimsAirArrivesWhenTheCfdsDoes) {
   EXPECT_LT(worst, 0.045);
 }
 
-// The formation needs the start-up and the pulses beside the cases: without them it is one error
-// naming the field, not air that silently never forms.
-TEST(AirProbe, TheFormationWithoutPulsesIsAnErrorNamingTheField) {
+// The formation needs the start-up and the pulses beside the cases (CfdField::forms_air): cases
+// without them give the lag's air alone, as the twin does, while the shipped cases form it.
+TEST(AirProbe, CasesWithoutPulsesGiveTheLagsAirAlone) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(::testing::TempDir()) / "cases_without_pulses";
   fs::remove_all(dir);
@@ -249,18 +249,26 @@ TEST(AirProbe, TheFormationWithoutPulsesIsAnErrorNamingTheField) {
     }
   }
   const CfdField bare = CfdField::read_dir(dir.string());
-  ASSERT_EQ(bare.formation(), nullptr);
-  AirTransportParameters params;
-  params.formation = true;
-  try {
-    probe_air(bare, params, {{0.0, {0.0, 0.1}}}, {kPoint}, AirProbeSettings{});
-    FAIL() << "expected an error";
-  } catch (const FieldError& e) {
-    EXPECT_EQ(e.field(), "air_transport.formation");
-  }
-  params.formation = false;  // the lag alone needs neither
-  EXPECT_EQ(probe_air(bare, params, {{0.0, {0.0, 0.1}}}, {kPoint}, AirProbeSettings{}).t_s.size(),
-            101u);
+  ASSERT_FALSE(bare.forms_air());
+  ASSERT_TRUE(cfd()->forms_air());
+  // A jump from tilt 0 to 22.5 deg, read 0.4 m downstream of the new s.
+  const std::vector<ProgramKnot> program = {{0.0, {0.0, 0.0}}, {0.0025, {0.0, deg_to_rad(22.5)}}};
+  const ProbePoint point{{0.99, 0.0}, 0.015};
+  AirProbeSettings s;
+  s.end_s = 0.8;
+  AirTransportParameters formed, lag_only;
+  lag_only.formation = false;
+  ASSERT_TRUE(formed.formation);
+  const auto max_difference = [&](const CfdField& cases) {
+    const AirProbeRecord a = probe_air(cases, formed, program, {point}, s);
+    const AirProbeRecord b = probe_air(cases, lag_only, program, {point}, s);
+    double worst = 0.0;
+    for (size_t k = 0; k < a.t_s.size(); ++k)
+      worst = std::max(worst, (a.u_W[k][0] - b.u_W[k][0]).norm());
+    return worst;
+  };
+  EXPECT_EQ(max_difference(bare), 0.0);
+  EXPECT_GT(max_difference(*cfd()), 0.5);
   fs::remove_all(dir);
 }
 
