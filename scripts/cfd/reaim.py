@@ -24,6 +24,10 @@ Subcommands (used by reaim.sh):
                              the CFD's re-aim against the twin's moving air (`airtwin probe`)
                              without and with the formation at several time scales; a JSON report
                              in OUTDIR, a summary on stdout and, with --png, a picture
+  compare-visit CASE DATADIR CASEDIR STEADY_TO AIRTWIN OUTDIR [--png FILE]
+                             a visit against the twin's moving air: the largest share of the
+                             visited tilt's air each point gets, by side and distance from its s
+                             (from CASEDIR's probes while the run is not converted yet)
 Debian's /usr/bin/python3 with numpy only.
 """
 import json
@@ -546,6 +550,121 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
         plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown)
 
 
+def read_running_probes(case_dir, n):
+    """The floor probes of a transient still running: U's samples so far (a line being written is
+    left out), horizontal, every PROBE_DT."""
+    rows = {}
+    pp = os.path.join(case_dir, "postProcessing/floor")
+    for start in sorted(os.listdir(pp), key=float):
+        path = os.path.join(pp, start, "U")
+        if not os.path.exists(path):
+            continue
+        for line in open(path):
+            if line.startswith("#") or not line.strip():
+                continue
+            vals = line.replace("(", " ").replace(")", " ").split()
+            if len(vals) != 1 + 3 * n:
+                continue
+            rows[round(float(vals[0]), 6)] = np.array(vals[1:], dtype=float).reshape(n, 3)[:, :2]
+    if not rows:
+        sys.exit("reaim: no probe samples in %s" % pp)
+    t = np.array(sorted(rows))
+    return t, np.stack([rows[k] for k in t])
+
+
+VISIT_BANDS = ((0.0, 0.1), (0.1, 0.2), (0.2, 0.4), (0.4, 0.7))
+
+
+def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir, png=None):
+    """A visit (the jet held visit_s at the second tilt and turned back) against the twin's moving
+    air: per point the largest share g of the visited tilt's steady air the visit brings, and
+    when; from the converted data when the run is done, else from the running case's probes."""
+    csv = os.path.join(data_dir, name + "_floor.csv")
+    if os.path.exists(csv):
+        meta = json.load(open(os.path.join(data_dir, name + ".json")))
+        t, pts, u_cfd = read_floor_csv(csv)
+    else:
+        meta = json.load(open(os.path.join(case_dir, "case.json")))
+        pts = np.array(probe_points())
+        t, u_cfd = read_running_probes(case_dir, len(pts))
+    if meta.get("kind") != "visit":
+        sys.exit("reaim: %s is not a visit" % name)
+    ub_cfd = cmd_sample_steady(steady_to_dir)[:, :2]
+    turn = meta["turn_start_s"]
+    ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
+    os.makedirs(out_dir, exist_ok=True)
+    program_csv = os.path.join(out_dir, "program.csv")
+    with open(program_csv, "w") as fh:
+        fh.write("t_s,pan_deg,tilt_deg\n")
+        for k in meta["program"]:
+            fh.write("%.6f,0,%.6f\n" % (k["t_s"], k["tilt_deg"]))
+    held_csv = os.path.join(out_dir, "held.csv")
+    with open(held_csv, "w") as fh:
+        fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
+    points_csv = os.path.join(out_dir, "points.csv")
+    with open(points_csv, "w") as fh:
+        fh.write("x_m,y_m,z_m\n")
+        for p in pts:
+            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+    dt = PROBE_DT
+    end = float(t[-1])
+    _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
+    ub_twin = ub_twin[-1]
+    variants = {"no formation": ["--no-air-formation"], "formation x0.5 (default)": [],
+                "formation x1": ["--air-formation-time-scale", "1"]}
+    twin = {}
+    for label, extra in variants.items():
+        tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, end, dt, extra)
+        idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
+        twin[label] = u[idx]
+    ua_twin = twin["no formation"][0]
+    steady_case = os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])
+    s_to = float(json.load(open(steady_case))["stagnation_point_s_m"][0])
+    r = np.hypot(pts[:, 0] - s_to, pts[:, 1])
+    report = {"case": name, "visited_s_x_m": s_to, "visit_s": meta["visit_s"], "cfd_until_s": end,
+              "min_change_m_s": MIN_CHANGE, "heights": {}}
+    for z in sorted(set(pts[:, 2])):
+        sel = (np.abs(pts[:, 2] - z) < 1e-6) & (r <= VISIT_BANDS[-1][1]) & \
+              (np.linalg.norm(ub_cfd - ua_cfd, axis=1) >= MIN_CHANGE) & \
+              (np.linalg.norm(ub_twin - ua_twin, axis=1) >= MIN_CHANGE)
+        g_cfd = share(u_cfd[:, sel], ua_cfd[sel], ub_cfd[sel])
+        peak_cfd = g_cfd.max(axis=0)
+        when_cfd = t[g_cfd.argmax(axis=0)]
+        down = (pts[:, 0] >= s_to)[sel]
+        rs = r[sel]
+        entry = {"points": int(sel.sum()), "bands": []}
+        peaks = {label: share(u[:, sel], ua_twin[sel], ub_twin[sel]) for label, u in twin.items()}
+        for side, mask in (("downstream", down), ("upstream", ~down)):
+            for lo, hi in VISIT_BANDS:
+                part = mask & (rs >= lo) & (rs < hi)
+                if not part.any():
+                    continue
+                band = {"side": side, "r_m": [lo, hi], "points": int(part.sum()),
+                        "cfd": {"peak_g_median": float(np.median(peak_cfd[part])),
+                                "peak_time_median_s": float(np.median(when_cfd[part]))}}
+                for label, g in peaks.items():
+                    band[label] = {"peak_g_median": float(np.median(g.max(axis=0)[part])),
+                                   "peak_time_median_s": float(np.median(t[g.argmax(axis=0)][part])),
+                                   "rms_g": float(np.sqrt(np.mean((g[:, part] - g_cfd[:, part]) ** 2)))}
+                entry["bands"].append(band)
+        report["heights"]["%g" % z] = entry
+    with open(os.path.join(out_dir, "report.json"), "w") as fh:
+        json.dump(report, fh, indent=1)
+    print("%s: the CFD to %.2f s; the visited s at x %.2f m; peak share g of the visited air (median) "
+          "and its time" % (name, end, s_to))
+    for z, e in report["heights"].items():
+        print("height %s m, %d points:" % (z, e["points"]))
+        for b in e["bands"]:
+            print("  %-10s %.1f-%.1f m (%3d): CFD %.2f at %.2f s; %s" % (
+                b["side"], b["r_m"][0], b["r_m"][1], b["points"], b["cfd"]["peak_g_median"],
+                b["cfd"]["peak_time_median_s"],
+                "; ".join("%s %.2f at %.2f s (rms g %.2f)" % (k, b[k]["peak_g_median"], b[k]["peak_time_median_s"],
+                                                               b[k]["rms_g"]) for k in variants)))
+    if png:
+        plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta,
+                     list(variants))
+
+
 def plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown):
     import matplotlib
     matplotlib.use("Agg")
@@ -589,6 +708,11 @@ def main(argv):
         cmd_convert(argv[2], argv[3], argv[4])
     elif len(argv) == 3 and argv[1] == "sample-steady":
         print("%d probes" % len(cmd_sample_steady(argv[2])))
+    elif len(argv) in (8, 10) and argv[1] == "compare-visit":
+        png = argv[9] if len(argv) == 10 and argv[8] == "--png" else None
+        if len(argv) == 10 and png is None:
+            sys.exit(__doc__)
+        cmd_compare_visit(argv[2], argv[3], argv[4], argv[5], argv[6], argv[7], png)
     elif len(argv) in (7, 9) and argv[1] == "compare":
         png = argv[8] if len(argv) == 9 and argv[7] == "--png" else None
         if len(argv) == 9 and png is None:
