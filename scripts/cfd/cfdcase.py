@@ -514,6 +514,43 @@ def ramp_table(value):
                     for i in range(n + 1))
 
 
+SYMMETRY = "    symmetry\n    {\n        type symmetry;\n    }\n"
+
+
+def write_fields(zero, inlet, side, u_table, u0, k_table, k0, eps_table, eps0):
+    """The 0/ fields of a jet case: the inlet patch `inlet` following Function1 tables (over
+    iterations or seconds; u0, k0, eps0 their values at the start, as text), the floor and the
+    rod no-slip with wall functions, the atmosphere open (total pressure, inflow of ambient
+    turbulence), and `side`, the boundary entry of the symmetry or wedge patches."""
+    walls = "    \"(floor|rod_wall)\"\n    {\n        type %s;\n%s    }\n"
+    write_file(os.path.join(zero, "U"), "volVectorField", "U",
+               "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
+               "    %s\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+               "        value uniform %s;\n    }\n" % (inlet, u_table, u0)
+               + walls % ("noSlip", "") + side +
+               "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
+               "        value uniform (0 0 0);\n    }\n}\n")
+    write_file(os.path.join(zero, "p"), "volScalarField", "p",
+               "dimensions [0 2 -2 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
+               "    \"(%s|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" % inlet + side +
+               "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
+               "        value uniform 0;\n    }\n}\n")
+    for fld, dims, table, v0, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_table, k0, K_AMB, "kqRWallFunction"),
+                                          ("epsilon", "[0 2 -3 0 0 0 0]", eps_table, eps0, EPS_AMB,
+                                           "epsilonWallFunction")):
+        write_file(os.path.join(zero, fld), "volScalarField", fld,
+                   "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
+                   "    %s\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+                   "        value uniform %s;\n    }\n" % (dims, amb, inlet, table, v0)
+                   + walls % (wf, "        value uniform %g;\n" % amb) + side +
+                   "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
+                   "        value uniform %g;\n    }\n}\n" % (amb, amb))
+    write_file(os.path.join(zero, "nut"), "volScalarField", "nut",
+               "dimensions [0 2 -1 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
+               "    \"(%s|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
+               % inlet + walls % ("nutkWallFunction", "        value uniform 0;\n") + side + "}\n")
+
+
 def cmd_fields(name, case_dir):
     case = find_case(name)
     g = Geo(case)
@@ -530,38 +567,10 @@ def cmd_fields(name, case_dir):
     k_in = 1.5 * (INTENSITY * u) ** 2
     eps_in = CMU ** 0.75 * k_in ** 1.5 / (LSCALE * g.D)
     uvec = u * g.d
-    zero = os.path.join(case_dir, "0")
-    common_walls = "    \"(floor|rod_wall)\"\n    {\n        type %s;\n%s    }\n"
-    sym = "    symmetry\n    {\n        type symmetry;\n    }\n"
-    write_file(os.path.join(zero, "U"), "volVectorField", "U",
-               "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
-               "    rod_inlet\n    {\n        type uniformFixedValue;\n"
-               "        uniformValue table (%s);\n        value uniform %s;\n    }\n"
-               % (ramp_table(lambda f: v3(f * uvec)), v3(RAMP_FROM * uvec))
-               + common_walls % ("noSlip", "") + sym +
-               "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
-               "        value uniform (0 0 0);\n    }\n}\n")
-    write_file(os.path.join(zero, "p"), "volScalarField", "p",
-               "dimensions [0 2 -2 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(rod_inlet|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" + sym +
-               "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
-               "        value uniform 0;\n    }\n}\n")
-    for fld, dims, inl, pw, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_in, 2, K_AMB, "kqRWallFunction"),
-                                        ("epsilon", "[0 2 -3 0 0 0 0]", eps_in, 3, EPS_AMB,
-                                         "epsilonWallFunction")):
-        write_file(os.path.join(zero, fld), "volScalarField", fld,
-                   "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
-                   "    rod_inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-                   "        value uniform %.9g;\n    }\n"
-                   % (dims, amb, ramp_table(lambda f, inl=inl, pw=pw: "%.9g" % (inl * f ** pw)),
-                      inl * RAMP_FROM ** pw)
-                   + common_walls % (wf, "        value uniform %g;\n" % amb) + sym +
-                   "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
-                   "        value uniform %g;\n    }\n}\n" % (amb, amb))
-    write_file(os.path.join(zero, "nut"), "volScalarField", "nut",
-               "dimensions [0 2 -1 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(rod_inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
-               + common_walls % ("nutkWallFunction", "        value uniform 0;\n") + sym + "}\n")
+    write_fields(os.path.join(case_dir, "0"), "rod_inlet", SYMMETRY,
+                 ramp_table(lambda f: v3(f * uvec)), v3(RAMP_FROM * uvec),
+                 ramp_table(lambda f: "%.9g" % (k_in * f ** 2)), "%.9g" % (k_in * RAMP_FROM ** 2),
+                 ramp_table(lambda f: "%.9g" % (eps_in * f ** 3)), "%.9g" % (eps_in * RAMP_FROM ** 3))
     info = {"cells": count_cells(mesh), "inlet_faces": nfaces, "inlet_area_m2": a_eff,
             "inlet_area_nominal_m2": a_nom, "inlet_area_error_pct": 100.0 * (a_eff / a_nom - 1.0),
             "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,

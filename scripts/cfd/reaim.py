@@ -41,7 +41,7 @@ import sys
 import numpy as np
 
 import cfdcase
-from cfdcase import (CMU, EPS_AMB, H, INTENSITY, K_AMB, K_KIN, LSCALE, Geo, block_mesh,
+from cfdcase import (CMU, H, INTENSITY, K_KIN, LSCALE, Geo, block_mesh,
                      git_commit_of, patch_area, read_boundary, rod_stl, snappy_dict, write_file)
 from startup import CONTROL
 from startup import SCHEMES as SCHEMES_TRANSIENT
@@ -160,38 +160,6 @@ def inlet(g, case_dir, tilt_deg):
     return u * d, k, eps, a_eff
 
 
-def field_files(zero, u_table, k_table, eps_table, u0, k0, eps0, internal=None):
-    """0/ fields with the inlet's values as Function1 tables (iterations or seconds)."""
-    walls = "    \"(floor|rod_wall)\"\n    {\n        type %s;\n%s    }\n"
-    sym = "    symmetry\n    {\n        type symmetry;\n    }\n"
-    write_file(os.path.join(zero, "U"), "volVectorField", "U",
-               "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
-               "    rod_inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-               "        value uniform %s;\n    }\n" % (u_table, cfdcase.v3(u0))
-               + walls % ("noSlip", "") + sym +
-               "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
-               "        value uniform (0 0 0);\n    }\n}\n")
-    write_file(os.path.join(zero, "p"), "volScalarField", "p",
-               "dimensions [0 2 -2 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(rod_inlet|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" + sym +
-               "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
-               "        value uniform 0;\n    }\n}\n")
-    for fld, dims, table, v0, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_table, k0, K_AMB, "kqRWallFunction"),
-                                          ("epsilon", "[0 2 -3 0 0 0 0]", eps_table, eps0, EPS_AMB,
-                                           "epsilonWallFunction")):
-        write_file(os.path.join(zero, fld), "volScalarField", fld,
-                   "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
-                   "    rod_inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-                   "        value uniform %.9g;\n    }\n" % (dims, amb, table, v0)
-                   + walls % (wf, "        value uniform %g;\n" % amb) + sym +
-                   "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
-                   "        value uniform %g;\n    }\n}\n" % (amb, amb))
-    write_file(os.path.join(zero, "nut"), "volScalarField", "nut",
-               "dimensions [0 2 -1 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(rod_inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
-               + walls % ("nutkWallFunction", "        value uniform 0;\n") + sym + "}\n")
-
-
 def cmd_steady(name, case_dir, tilt_deg):
     """A steady run blowing at tilt_deg, the inlet ramping up as in cfdcase's cases."""
     case = find(name)
@@ -202,11 +170,10 @@ def cmd_steady(name, case_dir, tilt_deg):
             sys.exit("reaim: patch %s missing after meshing (have %s)" % (need, sorted(bnd)))
     uvec, k_in, eps_in, a_eff = inlet(g, case_dir, tilt_deg)
     f0 = cfdcase.RAMP_FROM
-    field_files(os.path.join(case_dir, "0"),
-                cfdcase.ramp_table(lambda f: cfdcase.v3(f * uvec)),
-                cfdcase.ramp_table(lambda f: "%.9g" % (k_in * f ** 2)),
-                cfdcase.ramp_table(lambda f: "%.9g" % (eps_in * f ** 3)),
-                f0 * uvec, k_in * f0 ** 2, eps_in * f0 ** 3)
+    cfdcase.write_fields(os.path.join(case_dir, "0"), "rod_inlet", cfdcase.SYMMETRY,
+                         cfdcase.ramp_table(lambda f: cfdcase.v3(f * uvec)), cfdcase.v3(f0 * uvec),
+                         cfdcase.ramp_table(lambda f: "%.9g" % (k_in * f ** 2)), "%.9g" % (k_in * f0 ** 2),
+                         cfdcase.ramp_table(lambda f: "%.9g" % (eps_in * f ** 3)), "%.9g" % (eps_in * f0 ** 3))
     info = {"tilt_deg": tilt_deg, "inlet_area_m2": a_eff, "inlet_speed_m_s": float(np.linalg.norm(uvec)),
             "k_inlet": k_in, "epsilon_inlet": eps_in}
     with open(os.path.join(case_dir, "inlet.json"), "w") as fh:

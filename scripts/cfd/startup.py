@@ -28,13 +28,14 @@ import sys
 import numpy as np
 
 from cfdcase import (CMU, EPS_AMB, H, INTENSITY, K_AMB, K_KIN, LSCALE, NU, git_commit_of, grading,
-                     write_file)
+                     write_fields, write_file)
 from cfdcase import SCHEMES as SCHEMES_STEADY
 
 NAME = "startup_tilt00_d40"
 NAME_STOP = "stop_tilt00_d40"
 D = 0.040                 # inlet diameter (m): the same momentum flux as the rig's nozzle, see below
 WEDGE_DEG = 5.0           # the axisymmetric wedge's opening
+WEDGE = "    \"(front|back)\"\n    {\n        type wedge;\n    }\n"  # the fields' wedge patches
 R_MAX = 2.0               # domain radius (m)
 Z_TOP = 2.0               # domain top (m)
 H_CORE = 0.004            # cell size across the inlet and at the exit (m): D / 10
@@ -240,38 +241,11 @@ def cmd_write(case_dir, pulse_s=None):
                "simulationType RAS;\nRAS\n{\n    RASModel kEpsilon;\n    turbulence on;\n"
                "    printCoeffs on;\n}\n")
     u, k_in, eps_in = inlet_state()
-    zero = os.path.join(case_dir, "0")
-    wedge = "    \"(front|back)\"\n    {\n        type wedge;\n    }\n"
-    walls = "    \"(floor|rod_wall)\"\n    {\n        type %s;\n%s    }\n"
-    write_file(os.path.join(zero, "U"), "volVectorField", "U",
-               "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\nboundaryField\n{\n"
-               "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-               "        value uniform (0 0 0);\n    }\n" % ramp(lambda f: "(0 0 %.9g)" % (-f * u), pulse_s)
-               + walls % ("noSlip", "") + wedge +
-               "    atmosphere\n    {\n        type pressureInletOutletVelocity;\n"
-               "        value uniform (0 0 0);\n    }\n}\n")
-    write_file(os.path.join(zero, "p"), "volScalarField", "p",
-               "dimensions [0 2 -2 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(inlet|rod_wall|floor)\"\n    {\n        type zeroGradient;\n    }\n" + wedge +
-               "    atmosphere\n    {\n        type totalPressure;\n        p0 uniform 0;\n"
-               "        value uniform 0;\n    }\n}\n")
-    for fld, dims, inl, pw, amb, wf in (("k", "[0 2 -2 0 0 0 0]", k_in, 2, K_AMB, "kqRWallFunction"),
-                                        ("epsilon", "[0 2 -3 0 0 0 0]", eps_in, 3, EPS_AMB,
-                                         "epsilonWallFunction")):
-        # the inlet's k and epsilon follow its speed (as U^2, U^3) from the ambient values up
-        write_file(os.path.join(zero, fld), "volScalarField", fld,
-                   "dimensions %s;\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
-                   "    inlet\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
-                   "        value uniform %g;\n    }\n"
-                   % (dims, amb, ramp(lambda f, inl=inl, pw=pw, amb=amb: "%.9g" % max(amb, inl * f ** pw), pulse_s),
-                      amb)
-                   + walls % (wf, "        value uniform %g;\n" % amb) + wedge +
-                   "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
-                   "        value uniform %g;\n    }\n}\n" % (amb, amb))
-    write_file(os.path.join(zero, "nut"), "volScalarField", "nut",
-               "dimensions [0 2 -1 0 0 0 0];\n\ninternalField uniform 0;\n\nboundaryField\n{\n"
-               "    \"(inlet|atmosphere)\"\n    {\n        type calculated;\n        value uniform 0;\n    }\n"
-               + walls % ("nutkWallFunction", "        value uniform 0;\n") + wedge + "}\n")
+    # the inlet's k and epsilon follow its speed (as U^2, U^3) from the ambient values up
+    write_fields(os.path.join(case_dir, "0"), "inlet", WEDGE,
+                 ramp(lambda f: "(0 0 %.9g)" % (-f * u), pulse_s), "(0 0 0)",
+                 ramp(lambda f: "%.9g" % max(K_AMB, k_in * f ** 2), pulse_s), "%g" % K_AMB,
+                 ramp(lambda f: "%.9g" % max(EPS_AMB, eps_in * f ** 3), pulse_s), "%g" % EPS_AMB)
     gen = ("scripts/cfd/startup.py", "scripts/cfd/startup.sh")
     meta = {"case": name, "kind": "start" if pulse_s is None else "pulse", "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__)), gen),
             "cells": cells, "inlet_d_m": D, "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,
