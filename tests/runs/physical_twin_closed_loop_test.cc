@@ -1,8 +1,8 @@
 // The paper's whole pipeline on the physical twin, the way it ran on the rig: the twin in the
 // CFD's air with physical drag (docs/twin.md; the lag and the wall jet's formation at their
-// defaults), the Appendix D collection, eq. (8) identified from
-// it in the controller's CFD-fitted field model, then the line of Table I steered with the
-// paper's own CEM settings (section V-B) planning with that model. Label `closedloop`.
+// defaults), the Appendix D collection, eq. (8) identified from it in the controller's
+// CFD-fitted field model, then the line of Table I steered with the paper's own CEM settings
+// (section V-B) planning with that model. Label `closedloop`.
 //
 // Nothing here is the model's own output: the air, the drag, the friction and the re-aim's
 // transients are the twin's, the model is what identification makes of them. Runs are
