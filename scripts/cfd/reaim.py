@@ -24,6 +24,10 @@ Subcommands (used by reaim.sh):
                              the CFD's re-aim against the twin's moving air (`airtwin probe`)
                              without and with the formation at several time scales; a JSON report
                              in OUTDIR, a summary on stdout and, with --png, a picture
+  carried CASE DATADIR STEADY_TO AIRTWIN OUTDIR
+                             the new front's lag carried by the old air's component along its
+                             path (co-flow and counter-flow weights), against the CFD's half-way
+                             times (needs the Python bindings beside AIRTWIN)
   compare-visit CASE DATADIR CASEDIR STEADY_TO AIRTWIN OUTDIR [--png FILE]
                              a visit against the twin's moving air: the largest share of the
                              visited tilt's air each point gets, by side and distance from its s
@@ -517,6 +521,99 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
         plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown)
 
 
+CARRIED = [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 0.2), (0.75, 0.2), (1.0, 1.0)]
+PATH_SAMPLES = 60         # samples of the old air along the new front's path from the new s
+
+
+def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
+    """The new wall jet's front carried by the old air: per probe point of a re-aim, the lag from
+    the new s with the front's speed u_f(r) + a max(u_old . e, 0) + b min(u_old . e, 0) (u_f the
+    start-up's front speed in still air, u_old the first tilt's steady air along the straight path
+    from the new s, e its direction; a = b = 0 is the twin's lag) against the CFD's half-way
+    times. The twin's own half-way times (no formation) are shifted by the lag's change."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(airtwin)), "python"))
+    import airtwin as at  # the bindings beside the binary (build/python)
+    meta = json.load(open(os.path.join(data_dir, name + ".json")))
+    t, pts, u_cfd = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
+    ub_cfd = cmd_sample_steady(steady_to_dir)[:, :2]
+    turn = meta["turn_start_s"]
+    ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
+    os.makedirs(out_dir, exist_ok=True)
+    program_csv = os.path.join(out_dir, "program.csv")
+    with open(program_csv, "w") as fh:
+        fh.write("t_s,pan_deg,tilt_deg\n")
+        for k in meta["program"]:
+            fh.write("%.6f,0,%.6f\n" % (k["t_s"], k["tilt_deg"]))
+    held_csv = os.path.join(out_dir, "held.csv")
+    with open(held_csv, "w") as fh:
+        fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
+    points_csv = os.path.join(out_dir, "points.csv")
+    with open(points_csv, "w") as fh:
+        fh.write("x_m,y_m,z_m\n")
+        for p in pts:
+            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+    dt = float(np.round(t[1] - t[0], 6))
+    _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
+    ub_twin = ub_twin[-1]
+    tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, float(t[-1]), dt,
+                      ["--no-air-formation"])
+    u_twin = u[np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)]
+    ua_twin = u_twin[0]
+    s_to = float(json.load(open(os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])))
+                 ["stagnation_point_s_m"][0])
+    start = json.load(open(os.path.join(data_dir, "startup_tilt00_d40.json")))["figures"]["floor"]
+    field = at.CfdField.read_dir(data_dir)
+    r = np.hypot(pts[:, 0] - s_to, pts[:, 1])
+    report = {"case": name, "laws": []}
+    for z in sorted(set(pts[:, 2])):
+        sel = (np.abs(pts[:, 2] - z) < 1e-6) & (r >= R_BAND[0]) & (r <= R_BAND[1]) & \
+              (np.linalg.norm(ub_cfd - ua_cfd, axis=1) >= MIN_CHANGE) & \
+              (np.linalg.norm(ub_twin - ua_twin, axis=1) >= MIN_CHANGE)
+        half_cfd = rise_times(t, share(u_cfd[:, sel], ua_cfd[sel], ub_cfd[sel]))[1]
+        half_twin = rise_times(t, share(u_twin[:, sel], ua_twin[sel], ub_twin[sel]))[1]
+        arr = np.array([(e["r_m"], e["arrival_s"]) for e in start
+                        if abs(e["height_m"] - z) < 1e-6 and e.get("arrival_s")])
+        arr = arr[np.concatenate([[True], np.diff(arr[:, 1]) > 1e-9])]
+        u_front = 1.0 / np.maximum(np.gradient(arr[:, 1], arr[:, 0]), 1e-3)
+        pp = pts[sel]
+        rp = r[sel]
+        paths = []
+        for p in pp:
+            d = p[:2] - np.array([s_to, 0.0])
+            e = d / np.linalg.norm(d)
+            rs = (np.arange(PATH_SAMPLES) + 0.5) * np.linalg.norm(d) / PATH_SAMPLES
+            u_old = field.velocity(0.0, meta["from_deg"], np.array([s_to, 0.0])[None] + rs[:, None] * e[None], z) @ e
+            paths.append((np.linalg.norm(d) / PATH_SAMPLES, u_old, np.interp(rs, arr[:, 0], u_front)))
+        down = pp[:, 0] >= s_to
+        ok = ~np.isnan(half_cfd) & ~np.isnan(half_twin)
+        lag_still = np.array([np.sum(dr / uf) for dr, _, uf in paths])
+        for co, counter in CARRIED:
+            # a front held back to 5 cm/s stalls: the history keeps 2 s of orientations
+            lag = np.array([min(2.0, np.sum(dr / np.maximum(uf + co * np.maximum(uo, 0) +
+                                                             counter * np.minimum(uo, 0), 0.05)))
+                            for dr, uo, uf in paths])
+            half = half_twin + lag - lag_still
+            law = {"height_m": z, "co_flow": co, "counter_flow": counter, "points": int(ok.sum()),
+                   "half_time_bias_s": float(np.mean((half - half_cfd)[ok])),
+                   "half_time_rms_s": float(np.sqrt(np.mean((half - half_cfd)[ok] ** 2))), "bands": []}
+            for side, m in (("downstream", down), ("upstream", ~down)):
+                for lo, hi in ((0.1, 0.2), (0.2, 0.4), (0.4, 0.7)):
+                    part = ok & m & (rp >= lo) & (rp < hi)
+                    if part.any():
+                        law["bands"].append({"side": side, "r_m": [lo, hi], "points": int(part.sum()),
+                                             "half_time_bias_s": float(np.mean((half - half_cfd)[part]))})
+            report["laws"].append(law)
+    with open(os.path.join(out_dir, "carried.json"), "w") as fh:
+        json.dump(report, fh, indent=1)
+    print("%s: the new front's lag with the old air's component along its path; half-way time less "
+          "the CFD's (mean over the points)" % name)
+    for law in report["laws"]:
+        print("  %g m, co-flow x%g, counter-flow x%g: bias %+.3f s, rms %.3f s; %s" % (
+            law["height_m"], law["co_flow"], law["counter_flow"], law["half_time_bias_s"], law["half_time_rms_s"],
+            ", ".join("%s %.1f-%.1f %+.3f" % (b["side"][:2], b["r_m"][0], b["r_m"][1], b["half_time_bias_s"])
+                      for b in law["bands"])))
+
+
 def read_running_probes(case_dir, n):
     """The floor probes of a transient still running: U's samples so far (a line being written is
     left out), horizontal, every PROBE_DT."""
@@ -675,6 +772,8 @@ def main(argv):
         cmd_convert(argv[2], argv[3], argv[4])
     elif len(argv) == 3 and argv[1] == "sample-steady":
         print("%d probes" % len(cmd_sample_steady(argv[2])))
+    elif len(argv) == 7 and argv[1] == "carried":
+        cmd_carried(argv[2], argv[3], argv[4], argv[5], argv[6])
     elif len(argv) in (8, 10) and argv[1] == "compare-visit":
         png = argv[9] if len(argv) == 10 and argv[8] == "--png" else None
         if len(argv) == 10 and png is None:
