@@ -386,14 +386,44 @@ def rise_times(t, g, levels=(0.25, 0.5, 0.75)):
     return out
 
 
+def cfd_ends(meta, t, u_cfd, steady_to_dir):
+    """The CFD's old air (its mean over the 50 ms before the turn) and new air (the steady run at
+    the second tilt, sampled at the probes)."""
+    ub = cmd_sample_steady(steady_to_dir)[:, :2]
+    if ub.shape[0] != u_cfd.shape[1]:
+        sys.exit("reaim: the steady case's probes are not the transient's")
+    turn = meta["turn_start_s"]
+    return u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0), ub
+
+
+def write_program(path, program, shift_s=0.0):
+    """An `airtwin probe` program (pan 0) from a case's (t, tilt) knots, earlier by shift_s."""
+    with open(path, "w") as fh:
+        fh.write("t_s,pan_deg,tilt_deg\n")
+        for k in program:
+            fh.write("%.6f,0,%.6f\n" % (k["t_s"] - shift_s, k["tilt_deg"]))
+    return path
+
+
+def twin_setup(airtwin, out_dir, meta, pts, dt):
+    """The probe points' CSV and the twin's air there held at the second tilt."""
+    os.makedirs(out_dir, exist_ok=True)
+    points_csv = os.path.join(out_dir, "points.csv")
+    with open(points_csv, "w") as fh:
+        fh.write("x_m,y_m,z_m\n")
+        for p in pts:
+            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+    held_csv = write_program(os.path.join(out_dir, "held.csv"),
+                             [{"t_s": 0.0, "tilt_deg": meta["to_deg"]}])
+    _, ub = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
+    return points_csv, ub[-1]
+
+
 def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     meta = json.load(open(os.path.join(data_dir, name + ".json")))
     t, pts, u_cfd = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
-    ub_cfd = cmd_sample_steady(steady_to_dir)[:, :2]
-    if ub_cfd.shape[0] != pts.shape[0]:
-        sys.exit("reaim: the steady case's probes are not the transient's")
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
     turn = meta["turn_start_s"]
-    ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
     os.makedirs(out_dir, exist_ok=True)
     # The twin's transit is the start-up's (the head of a jet starting into still air, in whole
     # steps); a turning jet is already established and may carry its turn down faster. Other
@@ -403,24 +433,12 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     startup_transit = round(min(axis, key=lambda e: e["z_m"])["arrival_s"] / step) * step
     programs = {}
     for transit in [startup_transit] + TRANSITS:
-        path = os.path.join(out_dir, "program_transit%03.0fms.csv" % (1000 * transit))
-        with open(path, "w") as fh:
-            fh.write("t_s,pan_deg,tilt_deg\n")
-            for k in meta["program"]:
-                fh.write("%.6f,0,%.6f\n" % (k["t_s"] - (startup_transit - transit), k["tilt_deg"]))
-        programs[transit] = path
-    held_csv = os.path.join(out_dir, "held.csv")
-    with open(held_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
-    points_csv = os.path.join(out_dir, "points.csv")
-    with open(points_csv, "w") as fh:
-        fh.write("x_m,y_m,z_m\n")
-        for p in pts:
-            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+        programs[transit] = write_program(
+            os.path.join(out_dir, "program_transit%03.0fms.csv" % (1000 * transit)), meta["program"],
+            startup_transit - transit)
     dt = float(np.round(t[1] - t[0], 6))
     end = float(t[-1])
-    _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
-    ub_twin = ub_twin[-1]
+    points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
     formations = [("no formation", ["--no-air-formation"])] + [
         ("formation x%g" % f, ["--air-formation", "--air-formation-time-scale", "%g" % f])
         for f in SCALES]
@@ -535,26 +553,11 @@ def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
     import airtwin as at  # the bindings beside the binary (build/python)
     meta = json.load(open(os.path.join(data_dir, name + ".json")))
     t, pts, u_cfd = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
-    ub_cfd = cmd_sample_steady(steady_to_dir)[:, :2]
-    turn = meta["turn_start_s"]
-    ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
     os.makedirs(out_dir, exist_ok=True)
-    program_csv = os.path.join(out_dir, "program.csv")
-    with open(program_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n")
-        for k in meta["program"]:
-            fh.write("%.6f,0,%.6f\n" % (k["t_s"], k["tilt_deg"]))
-    held_csv = os.path.join(out_dir, "held.csv")
-    with open(held_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
-    points_csv = os.path.join(out_dir, "points.csv")
-    with open(points_csv, "w") as fh:
-        fh.write("x_m,y_m,z_m\n")
-        for p in pts:
-            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+    program_csv = write_program(os.path.join(out_dir, "program.csv"), meta["program"])
     dt = float(np.round(t[1] - t[0], 6))
-    _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
-    ub_twin = ub_twin[-1]
+    points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
     tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, float(t[-1]), dt,
                       ["--no-air-formation"])
     u_twin = u[np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)]
@@ -653,27 +656,12 @@ def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir,
         t, u_cfd = read_running_probes(case_dir, len(pts))
     if meta.get("kind") != "visit":
         sys.exit("reaim: %s is not a visit" % name)
-    ub_cfd = cmd_sample_steady(steady_to_dir)[:, :2]
-    turn = meta["turn_start_s"]
-    ua_cfd = u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
     os.makedirs(out_dir, exist_ok=True)
-    program_csv = os.path.join(out_dir, "program.csv")
-    with open(program_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n")
-        for k in meta["program"]:
-            fh.write("%.6f,0,%.6f\n" % (k["t_s"], k["tilt_deg"]))
-    held_csv = os.path.join(out_dir, "held.csv")
-    with open(held_csv, "w") as fh:
-        fh.write("t_s,pan_deg,tilt_deg\n0,0,%g\n" % meta["to_deg"])
-    points_csv = os.path.join(out_dir, "points.csv")
-    with open(points_csv, "w") as fh:
-        fh.write("x_m,y_m,z_m\n")
-        for p in pts:
-            fh.write("%.4f,%.4f,%.4f\n" % tuple(p))
+    program_csv = write_program(os.path.join(out_dir, "program.csv"), meta["program"])
     dt = PROBE_DT
     end = float(t[-1])
-    _, ub_twin = run_probe(airtwin, out_dir, "twin_held", held_csv, points_csv, dt, dt, [])
-    ub_twin = ub_twin[-1]
+    points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
     variants = {"no formation": ["--no-air-formation"], "formation x0.5 (default)": [],
                 "formation x1": ["--air-formation-time-scale", "1"]}
     twin = {}
