@@ -176,6 +176,32 @@ TEST(Cli, ProbeWritesTheTwinsAirAtItsPoints) {
   std::filesystem::remove_all(dir);
 }
 
+// The formation is on where the cases can form the air; asked for on cases without the start-up
+// and pulses it is one usage error naming the flag and the folder, and without it such cases
+// still give the lag's air.
+TEST(Cli, TheFormationAskedForOnCasesWithoutPulsesIsAUsageError) {
+  namespace fs = std::filesystem;
+  const std::string dir = scratch_dir("probe_bare");
+  const std::string cases = dir + "/cases";
+  fs::create_directories(cases);
+  for (const char* name : {"tilt00.0_mesh1_d20", "tilt22.5_mesh1_d20"}) {
+    for (const char* ext : {".json", ".f32"}) {
+      fs::create_symlink(fs::path(AIRTWIN_SOURCE_DIR "/data/cfd") / (std::string(name) + ext),
+                         fs::path(cases) / (std::string(name) + ext));
+    }
+  }
+  std::ofstream(dir + "/program.csv") << "t_s,pan_deg,tilt_deg\n0,0,0\n0.1,0,20\n";
+  std::ofstream(dir + "/points.csv") << "x_m,y_m\n0.8,0\n";
+  const std::string probe = "probe --program " + dir + "/program.csv --points " + dir +
+                            "/points.csv --end 0.2 --cfd " + cases + " --out " + dir + "/u.csv";
+  expect_failure(probe + " --air-formation", 2, "--air-formation: " + cases + " lacks the jet's");
+  const auto r = run_airtwin(probe);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_failure("collect --air cfd --cfd " + cases + " --air-formation --out " + dir + "/c.csv", 2,
+                 "--air-formation: " + cases + " lacks the jet's");
+  fs::remove_all(dir);
+}
+
 TEST(Cli, FieldWithPngWritesAPicture) {
   const std::string dir = scratch_dir("field_png");
   const auto r = run_airtwin("field --pan 0 --tilt 0 --step 0.05 --out " + dir + "/f.csv --png " +

@@ -153,3 +153,23 @@ def test_probe_air_equals_the_cli_probe_to_its_printed_digits(tmp_path):
         airtwin.probe_air(program, points, interval_s=0.003)
     with pytest.raises(ValueError, match="points"):
         airtwin.probe_air(program, points[:, :2])
+
+
+def test_the_formation_asked_for_on_cases_without_pulses_raises(tmp_path):
+    """Cases without the start-up and pulses give the lag's air alone, unless the formation is
+    asked for: then ValueError naming the keyword, in probe_air and in the twin's set-up."""
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    for name in ("tilt00.0_mesh1_d20", "tilt22.5_mesh1_d20"):
+        for ext in (".json", ".f32"):
+            (cases / (name + ext)).symlink_to(os.path.join(SOURCE_DIR, "data/cfd", name + ext))
+    bare = airtwin.CfdField.read_dir(str(cases))
+    program = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 20.0]])
+    points = np.array([[0.8, 0.0, 0.015]])
+    _, formed = airtwin.probe_air(program, points, cfd=bare, end_s=0.5)
+    _, lag_only = airtwin.probe_air(program, points, cfd=bare, formation=False, end_s=0.5)
+    np.testing.assert_array_equal(formed, lag_only)
+    with pytest.raises(ValueError, match="formation: the CFD cases lack the jet's start-up"):
+        airtwin.probe_air(program, points, cfd=bare, formation=True)
+    with pytest.raises(ValueError, match="air_formation: the CFD cases lack the jet's start-up"):
+        airtwin.Twin(os.path.join(SOURCE_DIR, "scenes/line.yaml"), 1, cfd=bare, air_formation=True)
