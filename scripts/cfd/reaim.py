@@ -617,28 +617,6 @@ def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
                       for b in law["bands"])))
 
 
-def read_running_probes(case_dir, n):
-    """The floor probes of a transient still running: U's samples so far (a line being written is
-    left out), horizontal, every PROBE_DT."""
-    rows = {}
-    pp = os.path.join(case_dir, "postProcessing/floor")
-    for start in sorted(os.listdir(pp), key=float):
-        path = os.path.join(pp, start, "U")
-        if not os.path.exists(path):
-            continue
-        for line in open(path):
-            if line.startswith("#") or not line.strip():
-                continue
-            vals = line.replace("(", " ").replace(")", " ").split()
-            if len(vals) != 1 + 3 * n:
-                continue
-            rows[round(float(vals[0]), 6)] = np.array(vals[1:], dtype=float).reshape(n, 3)[:, :2]
-    if not rows:
-        sys.exit("reaim: no probe samples in %s" % pp)
-    t = np.array(sorted(rows))
-    return t, np.stack([rows[k] for k in t])
-
-
 VISIT_BANDS = ((0.0, 0.1), (0.1, 0.2), (0.2, 0.4), (0.4, 0.7))
 
 
@@ -653,7 +631,9 @@ def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir,
     else:
         meta = json.load(open(os.path.join(case_dir, "case.json")))
         pts = np.array(probe_points())
-        t, u_cfd = read_running_probes(case_dir, len(pts))
+        t, u_cfd = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "U", len(pts),
+                                     running=True)
+        u_cfd = u_cfd[:, :, :2]
     if meta.get("kind") != "visit":
         sys.exit("reaim: %s is not a visit" % name)
     ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)

@@ -343,8 +343,10 @@ def cmd_progress(case_dir):
 
 
 # ---------------------------------------------------------------- conversion
-def read_probe_series(pp_dir, field, n):
-    """Every restart's file of one probed field, merged by time (a restart repeats nothing kept)."""
+def read_probe_series(pp_dir, field, n, running=False):
+    """Every restart's file of one probed field, merged by time (a restart repeats nothing kept).
+    running: the solver is still writing, so a line of the wrong length (the one being written)
+    is left out instead of being an error."""
     rows = {}
     if not os.path.isdir(pp_dir):
         sys.exit("startup: no probes in %s" % pp_dir)
@@ -358,7 +360,11 @@ def read_probe_series(pp_dir, field, n):
             vals = line.replace("(", " ").replace(")", " ").split()
             t = round(float(vals[0]), 6)
             data = np.array(vals[1:], dtype=float)
+            if running and rows and data.size != next(iter(rows.values())).size:
+                continue
             if data.size % n:
+                if running:
+                    continue
                 sys.exit("startup: %s: %d values at t %g, expected a multiple of %d probes" %
                          (path, data.size, t, n))
             rows[t] = data.reshape(n, -1)
