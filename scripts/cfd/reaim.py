@@ -18,7 +18,9 @@ Subcommands (used by reaim.sh):
   transient CASE SRC DIR     the transient from the steady fields in SRC (blowing at the case's
                              first tilt), with its inlet program and floor probes
   progress DIR               one line: simulated time, time step, wall clock per simulated second
-  convert CASE DIR OUTDIR    probes -> OUTDIR/<case>.json and <case>_floor.csv
+  convert CASE DIR OUTDIR FROM TO
+                             probes -> OUTDIR/<case>.json and <case>_floor.csv (FROM, TO: the
+                             steady ends' directories, whose run records it keeps)
   sample-steady DIR          the probes at the latest time of a finished steady run (postProcess)
   compare CASE DATADIR STEADY_TO AIRTWIN OUTDIR [--png FILE]
                              the CFD's re-aim against the twin's moving air (`airtwin probe`)
@@ -75,9 +77,11 @@ def cases():
     whose mesh and steady ends (the same tilts, the same rod) a case shares."""
     reaim = {"name": "reaim_t00.0_t22.5_d40", "from_deg": 0.0, "to_deg": 22.5}
     visit = {"name": "visit_t00.0_t22.5_h0.10_d40", "from_deg": 0.0, "to_deg": 22.5, "visit_s": 0.1}
-    for c in (reaim, visit):
+    # the way back, held 0.8 s (the CFD's half-way times 0.1-0.7 m from s come within 0.6 s)
+    back = {"name": "reaim_t22.5_t00.0_d40", "from_deg": 22.5, "to_deg": 0.0, "hold_after_s": 0.8}
+    for c in (reaim, visit, back):
         c.setdefault("mesh", reaim["name"])
-    return [reaim, visit]
+    return [reaim, visit, back]
 
 
 def find(name):
@@ -202,7 +206,7 @@ def program(case):
             knots.append((back + f * slew, b + f * (a - b)))
         last, last_tilt = back + slew + VISIT_AFTER_S, a
     else:
-        last, last_tilt = HOLD_BEFORE_S + slew + HOLD_AFTER_S, b
+        last, last_tilt = HOLD_BEFORE_S + slew + case.get("hold_after_s", HOLD_AFTER_S), b
     end = PROBE_DT * math.ceil(last / PROBE_DT - 1e-9)
     knots.append((end, last_tilt))
     return knots, slew, end
@@ -273,7 +277,7 @@ def cmd_transient(name, src_dir, case_dir):
           "to %.2f s" % (name, last, case["from_deg"], case["to_deg"], slew, HOLD_BEFORE_S, end))
 
 
-def cmd_convert(name, case_dir, out_dir):
+def cmd_convert(name, case_dir, out_dir, steady_from_dir, steady_to_dir):
     meta = json.load(open(os.path.join(case_dir, "case.json")))
     pts = probe_points()
     t, U = read_probe_series(os.path.join(case_dir, "postProcessing/floor"), "U", len(pts))
@@ -286,8 +290,8 @@ def cmd_convert(name, case_dir, out_dir):
     os.makedirs(out_dir, exist_ok=True)
     meta["csv_interval_s"] = CSV_DT
     meta["probes"] = {"x_m": [float(v) for v in PROBE_X], "y_m": PROBE_Y, "z_m": PROBE_Z}
-    for key in ("steady_from", "steady_to"):
-        path = os.path.join(os.path.dirname(case_dir), "%s_%s" % (meta["mesh_case"], key), "run.json")
+    for key, steady_dir in (("steady_from", steady_from_dir), ("steady_to", steady_to_dir)):
+        path = os.path.join(steady_dir, "run.json")
         if os.path.exists(path):
             meta[key] = json.load(open(path))
     with open(os.path.join(out_dir, name + ".json"), "w") as fh:
@@ -736,8 +740,8 @@ def main(argv):
         cmd_transient(argv[2], argv[3], argv[4])
     elif len(argv) == 3 and argv[1] == "progress":
         startup_progress(argv[2])
-    elif len(argv) == 5 and argv[1] == "convert":
-        cmd_convert(argv[2], argv[3], argv[4])
+    elif len(argv) == 7 and argv[1] == "convert":
+        cmd_convert(argv[2], argv[3], argv[4], argv[5], argv[6])
     elif len(argv) == 3 and argv[1] == "sample-steady":
         print("%d probes" % len(cmd_sample_steady(argv[2])))
     elif len(argv) == 7 and argv[1] == "carried":

@@ -102,17 +102,21 @@ solver() {
   echo "$(( $(date +%s) - t0 ))" >> "$dir/wall_time_s"
 }
 
-# steady NAME DIR TILT: the steady run blowing at TILT on the case's mesh (made in the first one).
+# steady_dir MESH TILT: where the steady run blowing at TILT on case MESH's mesh lives.
+steady_dir() {
+  printf '%s/%s_steady_t%04.1f' "$work" "$1" "$2"
+}
+
+# steady MESH TILT: the steady run blowing at TILT on case MESH's mesh (a copy of the mesh's
+# directory; cases with the same tilts share it).
 steady() {
-  local name="$1" dir="$2" tilt="$3" mesh_dir="$work/${1}_steady_from" msg
+  local name="$1" tilt="$2" dir mesh_dir="$work/${1}_mesh" msg
+  dir="$(steady_dir "$1" "$2")"
   [ -f "$dir/.solved" ] && return 0
   if [ ! -f "$dir/.fields" ]; then
-    if [ "$dir" != "$mesh_dir" ]; then
-      rm -rf "$dir"
-      mkdir -p "$dir"
-      cp -r "$mesh_dir/constant" "$mesh_dir/system" "$mesh_dir/case.json" "$dir/"
-    fi
-    rm -rf "$dir"/processor* "$dir/0"
+    rm -rf "$dir"
+    mkdir -p "$dir"
+    cp -r "$mesh_dir/constant" "$mesh_dir/system" "$mesh_dir/case.json" "$dir/"
     msg=$("$py" "$here/reaim.py" steady "$name" "$dir" "$tilt") || exit 1
     echo "reaim.sh: $(basename "$dir"): $msg"
     touch "$dir/.fields"
@@ -131,7 +135,7 @@ steady() {
 
 # run_case NAME FROM TO MESH: the case NAME on the mesh (and steady ends) of case MESH.
 run_case() {
-  local name="$1" from="$2" to="$3" mesh="$4" mesh_dir="$work/${4}_steady_from" dir="$work/$1" t0 msg
+  local name="$1" from="$2" to="$3" mesh="$4" mesh_dir="$work/${4}_mesh" dir="$work/$1" t0 msg
   if [ ! -f "$mesh_dir/.meshed" ]; then
     rm -rf "$mesh_dir"
     mkdir -p "$mesh_dir"
@@ -147,10 +151,10 @@ run_case() {
   fi
   # the first tilt's steady state (the transient's start); the second's (the reference of the
   # transient's end) after the transient
-  steady "$mesh" "$mesh_dir" "$from"
+  steady "$mesh" "$from"
   if [ ! -f "$dir/.written" ]; then
     rm -rf "$dir"
-    msg=$("$py" "$here/reaim.py" transient "$name" "$mesh_dir" "$dir") || exit 1
+    msg=$("$py" "$here/reaim.py" transient "$name" "$(steady_dir "$mesh" "$from")" "$dir") || exit 1
     echo "reaim.sh: $msg"
     touch "$dir/.written"
   fi
@@ -158,8 +162,9 @@ run_case() {
     solver "$dir" pimpleFoam reaim.py
     touch "$dir/.solved"
   fi
-  steady "$mesh" "$work/${mesh}_steady_to" "$to"
-  msg=$("$py" "$here/reaim.py" convert "$name" "$dir" "$out") || exit 1
+  steady "$mesh" "$to"
+  msg=$("$py" "$here/reaim.py" convert "$name" "$dir" "$out" "$(steady_dir "$mesh" "$from")" \
+    "$(steady_dir "$mesh" "$to")") || exit 1
   echo "reaim.sh: $msg"
   if [ "$commit" = 1 ]; then
     local files=("${out#"$top"/}/$name.json" "${out#"$top"/}/${name}_floor.csv")
