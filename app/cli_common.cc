@@ -119,6 +119,14 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
                   "The formation's times: the pulses' times this, in (0, 10] (0.5: the 3-D CFD\n"
                   "of a re-aim, docs/cfd.md; other values for measuring how results depend on it)")
       ->capture_default_str();
+  sub->add_option("--air-front-co-flow", flags.front_co_flow,
+                  "In CFD air, a re-aimed wall jet's front moves at its still-air speed plus this\n"
+                  "share of the old air flowing its way, in [0, 2] (1: carried, as the 3-D CFD of\n"
+                  "a re-aim shows; 0 with --air-front-counter-flow 0: the lag of still air)")
+      ->capture_default_str();
+  sub->add_option("--air-front-counter-flow", flags.front_counter_flow,
+                  "... less this share of the old air flowing against it, in [0, 2]")
+      ->capture_default_str();
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -144,9 +152,18 @@ void check_air_flags(const AirFlags& flags) {
   if (!default_scale && flags.no_formation) {
     throw UsageError("--air-formation-time-scale needs the formation (drop --no-air-formation)");
   }
+  const AirTransportParameters defaults;
+  if (flags.air == "model" && (flags.front_co_flow != defaults.front_co_flow ||
+                               flags.front_counter_flow != defaults.front_counter_flow)) {
+    throw UsageError("--air-front-co-flow and --air-front-counter-flow need --air cfd");
+  }
   AirTransportParameters transport;
   transport.formation_time_scale = flags.formation_time_scale;
-  with_flags({{"air_transport.formation_time_scale", "--air-formation-time-scale"}},
+  transport.front_co_flow = flags.front_co_flow;
+  transport.front_counter_flow = flags.front_counter_flow;
+  with_flags({{"air_transport.formation_time_scale", "--air-formation-time-scale"},
+              {"air_transport.front_co_flow", "--air-front-co-flow"},
+              {"air_transport.front_counter_flow", "--air-front-counter-flow"}},
              [&] { transport.validate(); });
 }
 
@@ -167,6 +184,8 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
   }
   twin->air_transport.formation = !flags.no_formation;
   twin->air_transport.formation_time_scale = flags.formation_time_scale;
+  twin->air_transport.front_co_flow = flags.front_co_flow;
+  twin->air_transport.front_counter_flow = flags.front_counter_flow;
   // One copy per folder in the process: a batch builds many twins from the same cases.
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const CfdField>> loaded;
@@ -185,6 +204,8 @@ std::string air_identity(const AirFlags& flags) {
   if (flags.air == "cfd") {
     drag += flags.no_formation ? ", no air formation"
                                : ", air formation x" + format_number(flags.formation_time_scale);
+    drag += ", front carried x" + format_number(flags.front_co_flow) + " / held back x" +
+            format_number(flags.front_counter_flow);
   }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;

@@ -80,17 +80,22 @@ struct AirFlags {
   bool no_formation = false;
   /// --air-formation-time-scale: AirTransportParameters::formation_time_scale.
   double formation_time_scale = AirTransportParameters{}.formation_time_scale;
+  /// --air-front-co-flow, --air-front-counter-flow: AirTransportParameters::front_co_flow and
+  /// front_counter_flow (the wall jet's front carried by the old air).
+  double front_co_flow = AirTransportParameters{}.front_co_flow;
+  double front_counter_flow = AirTransportParameters{}.front_counter_flow;
   /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
   std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
-/// euler|implicit, --air-formation, --no-air-formation and --air-formation-time-scale to `sub`.
+/// euler|implicit, --air-formation, --no-air-formation, --air-formation-time-scale,
+/// --air-front-co-flow and --air-front-counter-flow to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// UsageError naming --air, --cfd, --drag, --integrator, --air-formation,
-/// --no-air-formation or --air-formation-time-scale for a value or a combination none of them
-/// takes. Reads no file.
+/// --no-air-formation, --air-formation-time-scale or --air-front-* for a value or a combination
+/// none of them takes. Reads no file.
 void check_air_flags(const AirFlags& flags);
 
 /// Checks the flags (check_air_flags), then sets twin->cfd_air: the CFD cases of --cfd's folder

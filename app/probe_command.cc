@@ -24,6 +24,8 @@ struct ProbeArgs {
   bool formation = false;     // --air-formation: asked for (an error when the cases lack it)
   bool no_formation = false;  // --no-air-formation
   double formation_time_scale = AirTransportParameters{}.formation_time_scale;
+  double front_co_flow = AirTransportParameters{}.front_co_flow;
+  double front_counter_flow = AirTransportParameters{}.front_counter_flow;
   AirProbeSettings settings;
 };
 
@@ -31,7 +33,9 @@ constexpr std::initializer_list<FlagOf> kProbeFlags = {
     {"air_probe.timestep_s", "--timestep"},
     {"air_probe.interval_s", "--interval"},
     {"air_probe.end_s", "--end"},
-    {"air_transport.formation_time_scale", "--air-formation-time-scale"}};
+    {"air_transport.formation_time_scale", "--air-formation-time-scale"},
+    {"air_transport.front_co_flow", "--air-front-co-flow"},
+    {"air_transport.front_counter_flow", "--air-front-counter-flow"}};
 
 void run_probe(const ProbeArgs& a) {
   AirTransportParameters transport;
@@ -40,6 +44,8 @@ void run_probe(const ProbeArgs& a) {
   }
   transport.formation = !a.no_formation;
   transport.formation_time_scale = a.formation_time_scale;
+  transport.front_co_flow = a.front_co_flow;
+  transport.front_counter_flow = a.front_counter_flow;
   with_flags(kProbeFlags, [&] {
     a.settings.validate();
     transport.validate();
@@ -94,6 +100,12 @@ void add_probe_command(CLI::App& app) {
       ->excludes(on);
   sub->add_option("--air-formation-time-scale", args->formation_time_scale,
                   "The formation's times: the pulses' times this, in (0, 10]")
+      ->capture_default_str();
+  sub->add_option("--air-front-co-flow", args->front_co_flow,
+                  "The new front's speed gains this share of the old air flowing its way, [0, 2]")
+      ->capture_default_str();
+  sub->add_option("--air-front-counter-flow", args->front_counter_flow,
+                  "... and loses this share of the old air flowing against it, [0, 2]")
       ->capture_default_str();
   sub->add_option("--timestep", args->settings.timestep_s, "The twin's physics step (s)")
       ->capture_default_str();

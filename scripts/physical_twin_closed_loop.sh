@@ -6,11 +6,14 @@
 # 20.9 cm^2), seeds 1..N, planning with that model. Ends with the batch report (success rates,
 # median times and path errors) to set beside Table I.
 # Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--physics TYPE:k=v,...]
-#        [--no-formation | --formation-time-scale X] [--model FILE] [--airtwin PATH] [--out DIR]
+#        [--no-formation | --formation-time-scale X] [--still-front] [--model FILE]
+#        [--airtwin PATH] [--out DIR]
 #   --no-formation  each object gets the reached orientation's whole air at once (airtwin's
 #                --no-air-formation; by default the air forms, at half the CFD pulses' times)
 #   --formation-time-scale X  the formation's times: the pulses' times X (airtwin's
 #                --air-formation-time-scale; default 0.5)
+#   --still-front  the new wall jet's front as in still air (airtwin's --air-front-co-flow 0;
+#                by default it is carried by the old air)
 #   --model FILE plan with this identified model instead of collecting and identifying one
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,11 +29,12 @@ while [ $# -gt 0 ]; do
     --seeds) seeds="$2"; shift 2 ;;
     --no-formation) formation+=(--no-air-formation); shift ;;
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
+    --still-front) formation+=(--air-front-co-flow 0); shift ;;
     --model) model="$2"; shift 2 ;;
     --physics) physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done

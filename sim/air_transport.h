@@ -31,6 +31,16 @@
 // through still air. So that a step's air still reaches half its value when the start-up's
 // front does, the lag is shortened by ln 2 tau(r) (never below 0).
 //
+// The front is carried by the air it runs into (docs/cfd.md, "A front carried by the old air"):
+// where the old wall jet flows the new front's way, the front moves at its still-air speed u_f(r)
+// plus that air's component along its path (Galilean: co_flow 1), which the 3-D CFD of a re-aim
+// shows downstream of the new s (its front arrives 0.16 s before the still-air lag says 0.4-0.7 m
+// out); where the old air flows against it the new jet, strongest near its s, turns it aside
+// rather than being held back by it (counter_flow 0). Per point the lag from s is the still-air
+// one times phi = (the carried front's time along the straight path from the newest s through the
+// air the point last felt) / (the still-air front's time along it); the reaches are tabled for
+// phi on a grid of 2^(1/8) steps.
+//
 // AirTransport keeps the effective orientations of the last max_lag_s and their stagnation
 // points, one per physics step, and answers which one reaches a point: the newest whose air
 // has had time to get there, i.e. the smallest k with lag(|p - s_k|) <= k steps. The air of a
@@ -70,6 +80,12 @@ struct AirTransportParameters {
   /// new air in a median 0.09-0.10 s 0.1-0.7 m from the new s, half the pulses' time there
   /// (URANS k-epsilon smears a pulse's head, and a re-aimed jet meets air already moving).
   double formation_time_scale = 0.5;
+  /// The front's speed gains this share of the old air's component along its path where that
+  /// air flows its way (1: carried like a Galilean front), in [0, 2].
+  double front_co_flow = 1.0;
+  /// ... and loses this share of it where the old air flows against it, in [0, 2] (0: the new
+  /// jet turns the old wall jet aside without being slowed). Both 0: the lag of still air.
+  double front_counter_flow = 0.0;
   /// No lag: the floor pattern swings rigidly with the effective orientation.
   static AirTransportParameters rigid() { return {0.0, 0.0, false, false}; }
   /// Throws InputError naming the field unless every value is finite and in range.
@@ -97,11 +113,20 @@ class AirTransport {
   /// feels the present air.
   bool steady() const { return steps_since_change_ >= capacity_ - 1; }
   /// Steps back whose orientation reaches a point r_m from s (0: the present), at most the
-  /// history's span; with the formation, the lag less ln 2 tau(r).
-  int lag_steps(double r_m) const;
+  /// history's span; with the formation, the lag less ln 2 tau(r). `carry`: phi (top of file).
+  int lag_steps(double r_m, double carry = 1.0) const;
   /// Steps back of the newest orientation whose air has reached floor point p_W: the smallest
-  /// k with lag_steps(|p_W - s_k|) <= k (the history's span when none has).
-  int reached_steps(const Eigen::Vector2d& p_W) const;
+  /// k with lag_steps(|p_W - s_k|, carry) <= k (the history's span when none has).
+  int reached_steps(const Eigen::Vector2d& p_W, double carry = 1.0) const;
+  /// True when the front is carried by the old air (the lag is on and a weight is not 0).
+  bool carried() const {
+    return enabled() && (params_.front_co_flow > 0.0 || params_.front_counter_flow > 0.0);
+  }
+  /// phi for a straight path of length `length_m` from s: `along` holds the old air's component
+  /// along the path (m/s) at n equal segments' midpoints. 1 when the front is not carried.
+  double carry_factor(const double* along, int n, double length_m) const;
+  /// The front's speed in still air r from s (m/s): 1 / the lag's slope (never above 1000).
+  double front_speed_mps(double r_m) const;
   /// True when the air forms over time (a formation is in use and the lag is on).
   bool forms() const { return formation_ != nullptr && enabled(); }
   /// With the formation, what is left after one step of a departure from the reached air at r
@@ -110,6 +135,8 @@ class AirTransport {
   double formation_decay(double r_m) const;
   /// The effective orientation `steps` steps ago (0: the present), clamped to the history.
   const NozzleOrientation& at_lag(int steps) const;
+  /// Its stagnation point (m, world frame).
+  const Eigen::Vector2d& s_at_lag(int steps) const;
 
  private:
   AirTransportParameters params_;
@@ -117,15 +144,24 @@ class AirTransport {
   const WallJetFormation* formation_;  // set when params.formation and startup_ are
   double timestep_s_;
   int capacity_;  // orientations kept: max_lag_s / dt + 1
-  // The lag (s) at r, with the formation's shortening.
-  double lag_s(double r_m) const;
+  // The lag (s) at r with phi = carry, with the formation's shortening.
+  double lag_s(double r_m, double carry = 1.0) const;
+  // The still-air lag (s) at r, without the formation's shortening.
+  double still_lag_s(double r_m) const;
+  // The reach table for phi nearest carry (its level: round(8 log2 carry), within +-kCarryLevels).
+  const double* reach2_for(double carry) const;
   // The formation's time (s) at r: the pulses' tau scaled.
   double formation_time_s(double r_m) const;
   std::vector<NozzleOrientation> ring_;
   std::vector<Eigen::Vector2d> s_ring_;  // each orientation's stagnation point
-  // reach2_[k]: the squared distance within which air k steps old has arrived (infinite when
-  // every distance has).
+  // reach2_[level * capacity_ + k]: the squared distance within which air k steps old has
+  // arrived with phi = 2^((level - kCarryLevels) / 8) (infinite when every distance has); one
+  // level (phi = 1) when the front is not carried.
+  static constexpr int kCarryLevels = 16;  // phi from 1/4 to 4
   std::vector<double> reach2_;
+  int levels_ = 1;
+  // 1 / the still-air front's speed (s/m) on a 5 mm grid from s.
+  std::vector<double> pace_;
   // The box around every kept stagnation point: no orientation reaches a point p sooner than
   // the first k whose reach exceeds p's distance from it.
   Eigen::Vector2d s_min_, s_max_;

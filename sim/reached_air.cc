@@ -1,5 +1,10 @@
 #include "sim/reached_air.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
 namespace airtwin {
 
 ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params, double timestep_s,
@@ -7,7 +12,11 @@ ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params
     : cfd_(cfd),
       transport_(params, timestep_s, initial, cfd.startup(), cfd.formation(),
                  cfd.stagnation_point(initial)),
-      formation_(points, Formation{initial, 0, {0.0, 0.0}}) {
+      points_(points) {
+  for (PointState& f : points_) {
+    f.reached = initial;
+    f.reached_s = transport_.s_at_lag(0);
+  }
   // At most two lookups per point a step (the reached orientation, and the formation's
   // orientation before it): no reallocation, so the fields handed out stay valid through the
   // step.
@@ -34,31 +43,76 @@ const CfdOrientedField& ReachedAir::lagged(int steps) {
   return lagged_.back().second;
 }
 
+double ReachedAir::carry_factor(PointState& f, const Eigen::Vector2d& p_W, double z_m) {
+  constexpr double kMoved2 = 0.02 * 0.02;  // m^2: phi is taken again past 2 cm
+  constexpr double kSegment = 0.04;        // m: the path's segments, at most kSamples
+  constexpr int kSamples = 16;
+  const Eigen::Vector2d& s0 = present_->stagnation_point();
+  if (f.carry_set && (s0 - f.carry_s).squaredNorm() < kMoved2 &&
+      (p_W - f.carry_p).squaredNorm() < kMoved2 &&
+      (f.reached_s - f.carry_reached_s).squaredNorm() < kMoved2) {
+    return f.carry;
+  }
+  f.carry_set = true;
+  f.carry_s = s0;
+  f.carry_p = p_W;
+  f.carry_reached_s = f.reached_s;
+  const Eigen::Vector2d d = p_W - s0;
+  const double length = d.norm();
+  if (length < 0.02) return f.carry = 1.0;
+  // The air the point felt last step: its orientation is one step further back now (usually
+  // already built for this step).
+  const int before = f.steps + 1;
+  const NozzleOrientation& b = transport_.at_lag(before);
+  std::optional<CfdOrientedField> built;
+  const CfdOrientedField* old = nullptr;
+  if (b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad) {
+    old = &lagged(before);
+  } else {
+    old = &built.emplace(cfd_.at(f.reached));
+  }
+  const int n = std::clamp(static_cast<int>(std::ceil(length / kSegment)), 2, kSamples);
+  const Eigen::Vector2d e = d / length;
+  std::array<double, kSamples> along{};
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector2d q = s0 + ((j + 0.5) * length / n) * e;
+    along[static_cast<size_t>(j)] = old->at(q, z_m).u_W.dot(e);
+  }
+  return f.carry = transport_.carry_factor(along.data(), n, length);
+}
+
 ReachedAir::PointAir ReachedAir::at(size_t i, const Eigen::Vector2d& p_W, double z_m) {
   PointAir out;
-  const int steps = transport_.reached_steps(p_W);
-  if (transport_.forms()) {
-    const CfdOrientedField& reached = steps == 0 ? *present_ : lagged(steps);
-    Formation& f = formation_[i];
+  PointState& f = points_[i];
+  const double carry = transport_.carried() ? carry_factor(f, p_W, z_m) : 1.0;
+  const int steps = transport_.reached_steps(p_W, carry);
+  if (transport_.forms() || transport_.carried()) {
     const NozzleOrientation& now = transport_.at_lag(steps);
-    if (now.pan_rad != f.reached.pan_rad || now.tilt_rad != f.reached.tilt_rad) {
-      // Last step's orientation is one step further back now, usually already built.
-      const int before = f.steps + 1;
-      const NozzleOrientation& b = transport_.at_lag(before);
-      const bool cached = b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad;
-      const Eigen::Vector2d u_before =
-          cached ? lagged(before).at(p_W, z_m).u_W : cfd_.at(f.reached, p_W, z_m).u_W;
-      f.departure -= reached.at(p_W, z_m).u_W - u_before;
+    const bool changed = now.pan_rad != f.reached.pan_rad || now.tilt_rad != f.reached.tilt_rad;
+    if (transport_.forms()) {
+      const CfdOrientedField& reached = steps == 0 ? *present_ : lagged(steps);
+      if (changed) {
+        // Last step's orientation is one step further back now, usually already built.
+        const int before = f.steps + 1;
+        const NozzleOrientation& b = transport_.at_lag(before);
+        const bool cached = b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad;
+        const Eigen::Vector2d u_before =
+            cached ? lagged(before).at(p_W, z_m).u_W : cfd_.at(f.reached, p_W, z_m).u_W;
+        f.departure -= reached.at(p_W, z_m).u_W - u_before;
+      }
+      f.departure *= transport_.formation_decay((p_W - reached.stagnation_point()).norm());
+      if (f.departure.squaredNorm() < 1e-8) {
+        f.departure.setZero();  // below 0.1 mm/s
+      } else {
+        out.departure = f.departure;
+        forming_ = true;
+      }
+    }
+    if (changed) {
       f.reached = now;
+      f.reached_s = transport_.s_at_lag(steps);
     }
     f.steps = steps;
-    f.departure *= transport_.formation_decay((p_W - reached.stagnation_point()).norm());
-    if (f.departure.squaredNorm() < 1e-8) {
-      f.departure.setZero();  // below 0.1 mm/s
-    } else {
-      out.departure = f.departure;
-      forming_ = true;
-    }
   }
   if (steps > 0) out.field = &lagged(steps);
   return out;

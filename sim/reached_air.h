@@ -4,7 +4,9 @@
 // formation, the point's departure from that orientation's air. A change of the reached
 // orientation adds the change of its air at the point to the departure, which then decays at the
 // formation's rate there, exp(-dt / tau(r)) a step; the departure never grows as a point moves
-// through still air.
+// through still air. With the carried front, each point's lag is scaled by phi from the air it
+// felt last (sim/air_transport.h), taken again when the newest s, the point or that air's s moves
+// by 2 cm.
 //
 // The twin keeps one point per object (sim/twin.cc); the air probe keeps fixed points, the
 // twin's anemometers (sim/air_probe.h).
@@ -50,18 +52,27 @@ class ReachedAir {
  private:
   // The CFD's air of the orientation `steps` back (> 0), built once per step.
   const CfdOrientedField& lagged(int steps);
+  struct PointState;
+  // phi for point i at p_W (sim/air_transport.h): the front from the newest s through the air
+  // the point felt last step.
+  double carry_factor(PointState& f, const Eigen::Vector2d& p_W, double z_m);
 
   const CfdField& cfd_;
   AirTransport transport_;
   const CfdOrientedField* present_ = nullptr;
-  // Per point: the orientation whose air reached it last step, how many steps back that was, and
-  // its departure from that air.
-  struct Formation {
+  // Per point: the orientation whose air reached it last step, its s, how many steps back that
+  // was, and its departure from that air; the carried front's phi and where it was taken.
+  struct PointState {
     NozzleOrientation reached;
+    Eigen::Vector2d reached_s = Eigen::Vector2d::Zero();
     int steps = 0;
-    Eigen::Vector2d departure;
+    Eigen::Vector2d departure = Eigen::Vector2d::Zero();
+    double carry = 1.0;
+    bool carry_set = false;
+    Eigen::Vector2d carry_s = Eigen::Vector2d::Zero(), carry_p = Eigen::Vector2d::Zero(),
+                    carry_reached_s = Eigen::Vector2d::Zero();
   };
-  std::vector<Formation> formation_;
+  std::vector<PointState> points_;
   bool forming_ = false;  // some point's departure is not yet zero
   // This step's CFD airs of lagged orientations, by steps back (cleared every step).
   std::vector<std::pair<int, CfdOrientedField>> lagged_;

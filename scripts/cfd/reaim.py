@@ -77,8 +77,8 @@ def cases():
     whose mesh and steady ends (the same tilts, the same rod) a case shares."""
     reaim = {"name": "reaim_t00.0_t22.5_d40", "from_deg": 0.0, "to_deg": 22.5}
     visit = {"name": "visit_t00.0_t22.5_h0.10_d40", "from_deg": 0.0, "to_deg": 22.5, "visit_s": 0.1}
-    # the way back, held 0.8 s (the CFD's half-way times 0.1-0.7 m from s come within 0.6 s)
-    back = {"name": "reaim_t22.5_t00.0_d40", "from_deg": 22.5, "to_deg": 0.0, "hold_after_s": 0.8}
+    # the way back, held 0.6 s (the half-way times 0.1-0.6 m from s come within it)
+    back = {"name": "reaim_t22.5_t00.0_d40", "from_deg": 22.5, "to_deg": 0.0, "hold_after_s": 0.6}
     for c in (reaim, visit, back):
         c.setdefault("mesh", reaim["name"])
     return [reaim, visit, back]
@@ -368,6 +368,18 @@ MIN_CHANGE = 0.5          # m/s: points where the air changes less are left out 
 R_BAND = (0.1, 0.7)       # m from the new s: where the Appendix D objects start (0.2-0.58 m)
 
 
+CARRIED_COUNTER = [0.2]    # counter-flow weights tried beside the default 0
+CARRIED_CO = [0.5]         # co-flow weights tried beside the default 1
+BAND_VARIANTS = ("still, no formation", "still, formation x0.5", "carried, no formation",
+                 "carried, formation x0.5")
+
+
+def downstream(meta, pts, s_to):
+    """The points on the new s's far side from the old s (pan 0: both on the x axis)."""
+    s_from = H * math.tan(math.radians(meta["from_deg"]))
+    return (pts[:, 0] - s_to) * (s_to - s_from) >= 0.0
+
+
 def share(u, ua, ub):
     """g: the share of the change from ua to ub that u has made, per time and point."""
     d = ub - ua
@@ -443,19 +455,29 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     dt = float(np.round(t[1] - t[0], 6))
     end = float(t[-1])
     points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
+    # the twin's variants: the front of still air or carried by the old air (sim/air_transport.h;
+    # the default carried x1, held back x0), without the formation or at some of its times; other
+    # transits with the still front
+    still = ["--air-front-co-flow", "0"]
     formations = [("no formation", ["--no-air-formation"])] + [
         ("formation x%g" % f, ["--air-formation", "--air-formation-time-scale", "%g" % f])
         for f in SCALES]
+    variants = [(startup_transit, "still, " + fl, still + fx) for fl, fx in formations]
+    variants += [(startup_transit, "carried, " + fl, fx) for fl, fx in formations]
+    variants += [(startup_transit, "carried, held back x%g, formation x0.5" % b,
+                  ["--air-front-counter-flow", "%g" % b]) for b in CARRIED_COUNTER]
+    variants += [(startup_transit, "carried x%g, formation x0.5" % a, ["--air-front-co-flow", "%g" % a])
+                 for a in CARRIED_CO]
+    variants += [(transit, "still, %s, transit %.2f s" % (fl, transit), still + fx)
+                 for transit in TRANSITS for fl, fx in formations if fl in ("no formation", "formation x0.5")]
     twin = {}
-    for transit, program_csv in programs.items():
-        for flabel, extra in formations:
-            label = flabel if transit == startup_transit else "%s, transit %.2f s" % (flabel, transit)
-            tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, end, dt, extra)
-            idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
-            if np.abs(tt[idx] - t).max() > 1e-6:
-                sys.exit("reaim: the probe has no record at some of the CFD's times")
-            twin[label] = u[idx]
-    ua_twin = twin["no formation"][0]
+    for transit, label, extra in variants:
+        tt, u = run_probe(airtwin, out_dir, "twin", programs[transit], points_csv, end, dt, extra)
+        idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
+        if np.abs(tt[idx] - t).max() > 1e-6:
+            sys.exit("reaim: the probe has no record at some of the CFD's times")
+        twin[label] = u[idx]
+    ua_twin = twin["still, no formation"][0]
     # the new s: the steady campaign's at the second tilt (pan 0: on the x axis), the twin's there
     steady_case = os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])
     if not os.path.exists(steady_case):
@@ -493,7 +515,7 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
         # by side of the new s (downstream: away from the old s) and distance, the twin with the
         # start-up's transit
         bands = []
-        down = pts[:, 0] >= s_to
+        down = downstream(meta, pts, s_to)
         for side, mask in (("downstream", down), ("upstream", ~down)):
             for lo, hi in ((0.1, 0.2), (0.2, 0.4), (0.4, 0.7)):
                 part = (mask & (r >= lo) & (r < hi))[sel]
@@ -501,7 +523,7 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
                     continue
                 band = {"side": side, "r_m": [lo, hi], "points": int(part.sum()),
                         "cfd_rise_25_75_median_s": float(np.nanmedian((rt_cfd[2] - rt_cfd[0])[part]))}
-                for label in ("no formation", "formation x0.5", "formation x1"):
+                for label in BAND_VARIANTS:
                     g = share(twin[label][:, sel], ua_twin[sel], ub_twin[sel])
                     rt = rise_times(t, g)
                     band[label] = {"half_time_bias_s": float(np.nanmean((rt[1] - rt_cfd[1])[part])),
@@ -534,11 +556,11 @@ def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
             print("  %s %.1f-%.1f m (%d points): CFD rise %.3f s; half-way bias / rise: %s" % (
                 b["side"], b["r_m"][0], b["r_m"][1], b["points"], b["cfd_rise_25_75_median_s"],
                 ", ".join("%s %+.3f / %.3f s" % (k, b[k]["half_time_bias_s"], b[k]["rise_25_75_median_s"])
-                          for k in ("no formation", "formation x0.5", "formation x1"))))
+                          for k in BAND_VARIANTS)))
         print("  closest over the whole change (rms g): %s" % e["best"])
         print("  closest in timing (half-way time and 25-75 %% rise): %s" % e["best_timing"])
     if png:
-        shown = ["no formation", "formation x1"]
+        shown = ["still, no formation", "carried, formation x0.5"]
         shown += [e["best_timing"] for e in report["heights"].values() if e["best_timing"] not in shown][:1]
         plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twin, meta, shown)
 
@@ -563,7 +585,7 @@ def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
     dt = float(np.round(t[1] - t[0], 6))
     points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
     tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, float(t[-1]), dt,
-                      ["--no-air-formation"])
+                      ["--no-air-formation", "--air-front-co-flow", "0"])
     u_twin = u[np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)]
     ua_twin = u_twin[0]
     s_to = float(json.load(open(os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])))
@@ -591,7 +613,7 @@ def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
             rs = (np.arange(PATH_SAMPLES) + 0.5) * np.linalg.norm(d) / PATH_SAMPLES
             u_old = field.velocity(0.0, meta["from_deg"], np.array([s_to, 0.0])[None] + rs[:, None] * e[None], z) @ e
             paths.append((np.linalg.norm(d) / PATH_SAMPLES, u_old, np.interp(rs, arr[:, 0], u_front)))
-        down = pp[:, 0] >= s_to
+        down = downstream(meta, pp, s_to)
         ok = ~np.isnan(half_cfd) & ~np.isnan(half_twin)
         lag_still = np.array([np.sum(dr / uf) for dr, _, uf in paths])
         for co, counter in CARRIED:
@@ -646,14 +668,16 @@ def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir,
     dt = PROBE_DT
     end = float(t[-1])
     points_csv, ub_twin = twin_setup(airtwin, out_dir, meta, pts, dt)
-    variants = {"no formation": ["--no-air-formation"], "formation x0.5 (default)": [],
-                "formation x1": ["--air-formation-time-scale", "1"]}
+    still = ["--air-front-co-flow", "0"]
+    variants = {"still, no formation": still + ["--no-air-formation"],
+                "still, formation x0.5": still, "still, formation x1": still + ["--air-formation-time-scale", "1"],
+                "carried, no formation": ["--no-air-formation"], "carried, formation x0.5 (default)": []}
     twin = {}
     for label, extra in variants.items():
         tt, u = run_probe(airtwin, out_dir, "twin", program_csv, points_csv, end, dt, extra)
         idx = np.minimum(np.searchsorted(tt, t - 1e-9), tt.size - 1)
         twin[label] = u[idx]
-    ua_twin = twin["no formation"][0]
+    ua_twin = twin["still, no formation"][0]
     steady_case = os.path.join(data_dir, "tilt%04.1f_mesh1_d20.json" % meta["to_deg"])
     s_to = float(json.load(open(steady_case))["stagnation_point_s_m"][0])
     r = np.hypot(pts[:, 0] - s_to, pts[:, 1])
@@ -666,7 +690,7 @@ def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir,
         g_cfd = share(u_cfd[:, sel], ua_cfd[sel], ub_cfd[sel])
         peak_cfd = g_cfd.max(axis=0)
         when_cfd = t[g_cfd.argmax(axis=0)]
-        down = (pts[:, 0] >= s_to)[sel]
+        down = downstream(meta, pts, s_to)[sel]
         rs = r[sel]
         entry = {"points": int(sel.sum()), "bands": []}
         peaks = {label: share(u[:, sel], ua_twin[sel], ub_twin[sel]) for label, u in twin.items()}
@@ -706,8 +730,9 @@ def plot_compare(png, t, pts, s_to, u_cfd, ua_cfd, ub_cfd, twin, ua_twin, ub_twi
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     picks = []
+    away = 1.0 if meta["to_deg"] >= meta["from_deg"] else -1.0  # downstream: away from the old s
     for dx in (-0.3, 0.2, 0.4, 0.6):
-        want = np.array([s_to + dx, 0.0005, 0.004])
+        want = np.array([s_to + away * dx, 0.0005, 0.004])
         picks.append((dx, int(np.argmin(np.linalg.norm(pts - want, axis=1)))))
     fig, axes = plt.subplots(1, len(picks), figsize=(4 * len(picks), 3.4), sharey=True)
     for ax, (dx, i) in zip(axes, picks):

@@ -88,24 +88,25 @@ TEST(AirTransport, APointFeelsTheNewestOrientationWhoseAirHasReachedIt) {
   EXPECT_EQ(t.reached_steps({50.0, 0.0}), 400);
 }
 
-// The search against its definition, the smallest k with lag_steps(|p - s_k|) <= k, by brute
-// force over a seeded program of holds (runs of one s) and slews (a new s every step), wherever
-// the search starts (the box around the kept s). The reach is kept on a 1 mm grid of r, so the
-// definition is read at |p - s_k| rounded down to the millimetre.
-TEST(AirTransport, TheReachSearchFindsWhatTheDefinitionFindsOverHoldsAndSlews) {
-  AirTransportParameters p;
-  p.front_speed_mps = 1.3;
-  p.max_lag_s = 0.6;  // 241 orientations kept
-  const Eigen::Vector2d s0(0.2, -0.1);
+// The search against its definition, the smallest k with lag_steps(|p - s_k|, phi) <= k, by
+// brute force over a seeded program of holds (runs of one s) and slews (a new s every step),
+// wherever the search starts (the box around the kept s). The reach is kept on a 1 mm grid of r,
+// so the definition is read at |p - s_k| rounded down to the millimetre. With `random_carry`,
+// each query draws phi from the tables' grid 2^(j/8); else phi is 1.
+struct SearchCheck {
+  int checked = 0, older = 0, carried = 0;  // queries; neither present nor oldest; phi mattered
+};
+SearchCheck check_search(const AirTransportParameters& p, const Eigen::Vector2d& s0, unsigned seed,
+                         int segments, int hold_max, int every, bool random_carry) {
   AirTransport t(p, kDt, {0.0, 0.0}, nullptr, nullptr, s0);
   const int last = static_cast<int>(std::ceil(p.max_lag_s / kDt));
   std::vector<Eigen::Vector2d> history(static_cast<size_t>(last + 1), s0);  // newest first
-  std::mt19937 rng(4242);
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(-0.8, 0.8);
-  std::uniform_int_distribution<int> hold(1, 300), slew(1, 60);
+  std::uniform_int_distribution<int> hold(1, hold_max), slew(1, 60), level(-16, 16);
   Eigen::Vector2d s = s0;
-  int checked = 0, older = 0;
-  for (int segment = 0; segment < 40; ++segment) {
+  SearchCheck out;
+  for (int segment = 0; segment < segments; ++segment) {
     const bool holding = segment % 2 == 0;
     const int steps = holding ? hold(rng) : slew(rng);
     const Eigen::Vector2d target(pos(rng), pos(rng));
@@ -114,25 +115,90 @@ TEST(AirTransport, TheReachSearchFindsWhatTheDefinitionFindsOverHoldsAndSlews) {
       t.push({0.0, 0.0}, s);
       history.insert(history.begin(), s);
       history.pop_back();
-      if (i % 7 != 0) continue;
+      if (i % every != 0) continue;
       for (int q = 0; q < 10; ++q) {
         const Eigen::Vector2d x(pos(rng), pos(rng));
+        const double carry = random_carry ? std::exp2(level(rng) / 8.0) : 1.0;
         int expected = last;
         for (int k = 0; k < last; ++k) {
           const double r_mm = std::floor((x - history[static_cast<size_t>(k)]).norm() * 1e3);
-          if (t.lag_steps(r_mm * 1e-3) <= k) {
+          if (t.lag_steps(r_mm * 1e-3, carry) <= k) {
             expected = k;
             break;
           }
         }
-        ASSERT_EQ(t.reached_steps(x), expected) << "segment " << segment << " step " << i;
-        ++checked;
-        if (expected > 0 && expected < last) ++older;
+        const int found = t.reached_steps(x, carry);
+        EXPECT_EQ(found, expected) << "segment " << segment << " step " << i << " phi " << carry;
+        if (found != expected) return out;
+        ++out.checked;
+        if (expected > 0 && expected < last) ++out.older;
+        if (expected != t.reached_steps(x)) ++out.carried;
       }
     }
   }
-  EXPECT_GT(checked, 1000);
-  EXPECT_GT(older, checked / 4);  // most answers are neither the present nor the oldest
+  return out;
+}
+
+TEST(AirTransport, TheReachSearchFindsWhatTheDefinitionFindsOverHoldsAndSlews) {
+  AirTransportParameters p;
+  p.front_speed_mps = 1.3;
+  p.max_lag_s = 0.6;  // 241 orientations kept
+  const SearchCheck c = check_search(p, {0.2, -0.1}, 4242, 40, 300, 7, false);
+  EXPECT_GT(c.checked, 1000);
+  EXPECT_GT(c.older, c.checked / 4);  // most answers are neither the present nor the oldest
+}
+
+// The same with phi drawn per query (the carried front's tables).
+TEST(AirTransport, TheReachSearchWithACarriedFrontFindsWhatTheDefinitionFinds) {
+  AirTransportParameters p;
+  p.front_speed_mps = 1.3;
+  p.cfd_timing = false;
+  p.max_lag_s = 0.6;
+  const SearchCheck c = check_search(p, {0.0, 0.0}, 777, 30, 200, 5, true);
+  EXPECT_GT(c.checked, 500);
+  EXPECT_GT(c.carried, c.checked / 4);  // phi changes the answer in many queries
+}
+
+// The carried front's phi against its definition (sim/air_transport.h): the ratio of the times
+// along the path at u_f + co max(w, 0) + counter min(w, 0) and at u_f, here with u_f uniform
+// (1.5 m/s) or the start-up's piecewise one, and its limits.
+TEST(AirTransport, TheCarriedFrontsFactorIsTheRatioOfItsTimesAlongThePath) {
+  AirTransportParameters p;  // co-flow 1, counter-flow 0
+  p.front_speed_mps = 1.5;
+  p.cfd_timing = false;
+  const AirTransport t(p, kDt, {0.0, 0.0});
+  ASSERT_TRUE(t.carried());
+  EXPECT_NEAR(t.front_speed_mps(0.3), 1.5, 1e-9);
+  const std::vector<double> co(8, 1.5), against(8, -1.0);
+  EXPECT_NEAR(t.carry_factor(co.data(), 8, 0.4), 0.5, 1e-10);       // 1.5 / (1.5 + 1.5)
+  EXPECT_NEAR(t.carry_factor(against.data(), 8, 0.4), 1.0, 1e-10);  // counter-flow 0
+  // Half the path with the air, half against: (1/3 + 1/1.5) / (2 / 1.5) = 0.75.
+  const std::vector<double> half = {1.5, 1.5, -1.0, -1.0};
+  EXPECT_NEAR(t.carry_factor(half.data(), 4, 0.4), 0.75, 1e-10);
+  p.front_co_flow = 0.5;
+  p.front_counter_flow = 0.5;
+  const AirTransport u(p, kDt, {0.0, 0.0});
+  EXPECT_NEAR(u.carry_factor(co.data(), 8, 0.4), 1.5 / 2.25, 1e-10);
+  EXPECT_NEAR(u.carry_factor(against.data(), 8, 0.4), 1.5 / 1.0, 1e-10);
+  // A front held back to a stall (at 5 cm/s) is capped at phi = 4; a carried one at 1/4.
+  const std::vector<double> wall(8, -10.0), gale(8, 20.0);
+  EXPECT_DOUBLE_EQ(u.carry_factor(wall.data(), 8, 0.4), 4.0);
+  EXPECT_DOUBLE_EQ(u.carry_factor(gale.data(), 8, 0.4), 0.25);
+  // Both weights 0: the still-air lag, phi 1 whatever the air.
+  p.front_co_flow = p.front_counter_flow = 0.0;
+  const AirTransport still(p, kDt, {0.0, 0.0});
+  EXPECT_FALSE(still.carried());
+  EXPECT_DOUBLE_EQ(still.carry_factor(co.data(), 8, 0.4), 1.0);
+  // The start-up's front: 0.1 m in 0.05 s (2 m/s), then 0.4 m in 0.45 s (0.889 m/s). A path of
+  // 0.2 m with 0.5 m/s of co-flow: (0.05 / 2.5 + 0.05 / 2.5 + 2 x 0.05 / 1.389) / (0.05 / 2 x 2
+  // + 0.1 / 0.889).
+  const CfdStartup startup(0.25, {0.1, 0.5}, {0.3, 0.75});
+  const AirTransport cfd(AirTransportParameters{}, kDt, {0.0, 0.0}, &startup);
+  EXPECT_NEAR(cfd.front_speed_mps(0.05), 2.0, 1e-9);
+  EXPECT_NEAR(cfd.front_speed_mps(0.3), 0.4 / 0.45, 1e-9);
+  const std::vector<double> breeze(4, 0.5);
+  const double expected = (0.1 / 2.5 + 0.1 / (0.4 / 0.45 + 0.5)) / (0.1 / 2.0 + 0.1 / (0.4 / 0.45));
+  EXPECT_NEAR(cfd.carry_factor(breeze.data(), 4, 0.2), expected, 1e-9);
 }
 
 TEST(AirTransport, BadParametersNameTheField) {
@@ -147,13 +213,31 @@ TEST(AirTransport, BadParametersNameTheField) {
   p = AirTransportParameters{};
   p.max_lag_s = std::nan("");
   EXPECT_THROW(p.validate(), InputError);
+  for (const double bad : {-0.1, 2.5, std::nan("")}) {
+    p = AirTransportParameters{};
+    p.front_co_flow = bad;
+    try {
+      p.validate();
+      FAIL() << "no error for front_co_flow " << bad;
+    } catch (const FieldError& e) {
+      EXPECT_EQ(e.field(), "air_transport.front_co_flow");
+    }
+    p = AirTransportParameters{};
+    p.front_counter_flow = bad;
+    try {
+      p.validate();
+      FAIL() << "no error for front_counter_flow " << bad;
+    } catch (const FieldError& e) {
+      EXPECT_EQ(e.field(), "air_transport.front_counter_flow");
+    }
+  }
 }
 
 // A tracer 0.4 m downstream of the new s, upstream of the old one (1.4 m away, weak air): after
 // the re-aim it starts moving when the new wall jet reaches it. The lag delays that by about
 // r / U_front beside the rigid pattern, and twice as long at half the front speed; with the CFD's
 // timings (cfd_timing), by the CFD start-up's lag at r, after the CFD's transit. The formation
-// is off: these check the lag alone.
+// is off and the front is still air's (not carried): these check the lag alone.
 double onset_s(double front_speed_mps, bool cfd_timing) {
   static const auto cfd =
       std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
@@ -165,6 +249,7 @@ double onset_s(double front_speed_mps, bool cfd_timing) {
   p.air_transport.front_speed_mps = front_speed_mps;
   p.air_transport.cfd_timing = cfd_timing;
   p.air_transport.formation = false;
+  p.air_transport.front_co_flow = 0.0;
   p.initial_orientation = {kPi, deg_to_rad(22.5)};
   p.jet_on_at_start = true;
   SceneSpec spec;
@@ -245,6 +330,7 @@ Formed formed(double time_scale = 1.0) {
   p.cfd_air = cfd;
   p.air_transport.formation = true;
   p.air_transport.formation_time_scale = time_scale;
+  p.air_transport.front_co_flow = 0.0;  // the start-up's front, as the definition
   p.nozzle.max_speed_radps = 7000.0;
   p.nozzle.max_acceleration_radps2 = 1e8;
   p.initial_orientation = a;
