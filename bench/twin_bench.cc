@@ -29,6 +29,9 @@
 //                            reference the lag's cost is read against in the same run.
 //   BM_TwinStep/tracers_25_cfd_formed: the same with the wall jet's formation (the default in
 //                            CFD air; tracers_25_cfd leaves it out, --no-air-formation).
+//   BM_TwinStep/tracers_25_cfd_still_front: formed, with the front of still air instead of the
+//                            default carried by the old air (--air-front-co-flow 0): the
+//                            reference the carried front's cost is read against.
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
 // 25-tracer scene), ratio_free (twin / free-running bare step rate), solver_iter and
@@ -115,6 +118,7 @@ enum class Response {
   kLagged,  // the default: each object in the newest orientation's air that has reached it
   kRigid,   // the pattern swings rigidly with the nozzle (no transport lag)
   kFormed,  // lagged, and each object's air forms at the CFD pulses' rate
+  kFormedStillFront,  // formed, the front of still air (not carried by the old air)
 };
 
 TwinParameters twin_parameters(double timestep_s, bool cfd, Response response = Response::kLagged) {
@@ -122,7 +126,9 @@ TwinParameters twin_parameters(double timestep_s, bool cfd, Response response = 
   p.scene.timestep_s = timestep_s;
   if (cfd) p.cfd_air = shipped_cfd();
   if (response == Response::kRigid) p.air_transport = AirTransportParameters::rigid();
-  p.air_transport.formation = response == Response::kFormed;
+  p.air_transport.formation =
+      response == Response::kFormed || response == Response::kFormedStillFront;
+  if (response == Response::kFormedStillFront) p.air_transport.front_co_flow = 0.0;
   p.jet_on_at_start = true;
   p.initial_orientation = program(0.0);
   return p;
@@ -232,6 +238,9 @@ void BM_TwinStep_tracers_25_cfd_rigid(benchmark::State& state) {
 void BM_TwinStep_tracers_25_cfd_formed(benchmark::State& state) {
   run(state, tracers_25(), SceneParameters{}.timestep_s, true, Response::kFormed);
 }
+void BM_TwinStep_tracers_25_cfd_still_front(benchmark::State& state) {
+  run(state, tracers_25(), SceneParameters{}.timestep_s, true, Response::kFormedStillFront);
+}
 
 BENCHMARK(BM_TwinStep_tracers_25)
     ->Name("BM_TwinStep/tracers_25")
@@ -255,6 +264,10 @@ BENCHMARK(BM_TwinStep_tracers_25_cfd_rigid)
     ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_tracers_25_cfd_formed)
     ->Name("BM_TwinStep/tracers_25_cfd_formed")
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK(BM_TwinStep_tracers_25_cfd_still_front)
+    ->Name("BM_TwinStep/tracers_25_cfd_still_front")
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
 BENCHMARK(BM_TwinStep_mixed_12)

@@ -44,13 +44,16 @@ const CfdOrientedField& ReachedAir::lagged(int steps) {
 }
 
 double ReachedAir::carry_factor(PointState& f, const Eigen::Vector2d& p_W, double z_m) {
-  constexpr double kMoved2 = 0.02 * 0.02;  // m^2: phi is taken again past 2 cm
-  constexpr double kSegment = 0.04;        // m: the path's segments, at most kSamples
-  constexpr int kSamples = 16;
+  // phi changes slowly along a sweep: it is taken again when the newest s or the reached
+  // orientation's s has moved 5 cm or the point 2 cm, from at most kSamples of the old air 10 cm
+  // apart (a path's time is a smooth integral; ~1 % of a 25-tracer step while the nozzle moves).
+  constexpr double kSMoved2 = 0.05 * 0.05, kPointMoved2 = 0.02 * 0.02;  // m^2
+  constexpr double kSegment = 0.10;                                     // m
+  constexpr int kSamples = 6;
   const Eigen::Vector2d& s0 = present_->stagnation_point();
-  if (f.carry_set && (s0 - f.carry_s).squaredNorm() < kMoved2 &&
-      (p_W - f.carry_p).squaredNorm() < kMoved2 &&
-      (f.reached_s - f.carry_reached_s).squaredNorm() < kMoved2) {
+  if (f.carry_set && (s0 - f.carry_s).squaredNorm() < kSMoved2 &&
+      (p_W - f.carry_p).squaredNorm() < kPointMoved2 &&
+      (f.reached_s - f.carry_reached_s).squaredNorm() < kSMoved2) {
     return f.carry;
   }
   f.carry_set = true;

@@ -5,8 +5,8 @@
 // orientation adds the change of its air at the point to the departure, which then decays at the
 // formation's rate there, exp(-dt / tau(r)) a step; the departure never grows as a point moves
 // through still air. With the carried front, each point's lag is scaled by phi from the air it
-// felt last (sim/air_transport.h), taken again when the newest s, the point or that air's s moves
-// by 2 cm.
+// felt last (sim/air_transport.h), taken again when the newest s or that air's s moves by 5 cm
+// or the point by 2 cm.
 //
 // The twin keeps one point per object (sim/twin.cc); the air probe keeps fixed points, the
 // twin's anemometers (sim/air_probe.h).
