@@ -23,12 +23,10 @@ namespace py = pybind11;
 namespace airtwin::python {
 namespace {
 
-std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& program,
-                                                          const DoubleArray& points,
-                                                          std::shared_ptr<const CfdField> cfd,
-                                                          std::optional<bool> formation,
-                                                          double formation_time_scale, double end_s,
-                                                          double interval_s, double timestep_s) {
+std::pair<py::array_t<double>, py::array_t<double>> probe(
+    const DoubleArray& program, const DoubleArray& points, std::shared_ptr<const CfdField> cfd,
+    std::optional<bool> formation, double formation_time_scale, double end_s, double interval_s,
+    double timestep_s, double front_co_flow, double front_counter_flow) {
   const py::ssize_t knots = rows_of(program, 3, "program");
   const py::ssize_t n = rows_of(points, 3, "points");
   if (knots == 0) throw InputError("program: expected at least one row (t_s, pan_deg, tilt_deg)");
@@ -47,6 +45,15 @@ std::pair<py::array_t<double>, py::array_t<double>> probe(const DoubleArray& pro
     throw FieldError("formation_time_scale", "needs the formation (formation not False)");
   }
   params.formation_time_scale = formation_time_scale;
+  params.front_co_flow = front_co_flow;
+  params.front_counter_flow = front_counter_flow;
+  try {
+    params.validate();
+  } catch (const FieldError& e) {
+    // The argument's name, not the library's field (air_transport.front_co_flow -> front_co_flow).
+    const std::string& f = e.field();
+    throw FieldError(f.substr(f.find('.') + 1), e.detail());
+  }
   AirProbeSettings settings;
   settings.end_s = end_s;
   settings.interval_s = interval_s;
@@ -82,10 +89,15 @@ void bind_probe(py::module_& m) {
         py::arg("formation") = py::none(),
         py::arg("formation_time_scale") = AirTransportParameters{}.formation_time_scale,
         py::arg("end_s") = 1.0, py::arg("interval_s") = 0.01, py::arg("timestep_s") = 0.0025,
+        py::arg("front_co_flow") = AirTransportParameters{}.front_co_flow,
+        py::arg("front_counter_flow") = AirTransportParameters{}.front_counter_flow,
         "The twin's mean air at fixed floor points while the nozzle follows a program, as "
         "`airtwin probe` (docs/twin.md): program K x 3 rows (t_s, pan_deg, tilt_deg), linear "
         "between them; points N x 3 (x_m, y_m, z_m); cfd a CfdField (default: the shipped "
-        "data/cfd). Returns (t, u): record times (T,) from 0 to end_s every interval_s and the "
+        "data/cfd); formation, formation_time_scale, front_co_flow and front_counter_flow as "
+        "--air-formation / --no-air-formation, --air-formation-time-scale, --air-front-co-flow "
+        "and --air-front-counter-flow. Returns (t, u): record times (T,) from 0 to end_s every "
+        "interval_s and the "
         "horizontal air (T, N, 2) in m/s. ValueError naming the field for a bad value.");
 }
 

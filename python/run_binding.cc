@@ -210,10 +210,11 @@ void bind_run(py::module_& m) {
          const std::vector<std::string>& object_physics, const std::vector<std::string>& effects,
          const std::string& mjcf, const std::string& table, const std::vector<std::string>& models,
          std::optional<bool> air_formation, double air_formation_time_scale,
-         const std::string& integrator) {
+         const std::string& integrator, double air_front_co_flow, double air_front_counter_flow) {
         return run(scenario_path, seed,
                    TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf,
-                             air_formation, air_formation_time_scale, integrator},
+                             air_formation, air_formation_time_scale, integrator, air_front_co_flow,
+                             air_front_counter_flow},
                    ControllerSetup{table, models});
       },
       py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
@@ -222,12 +223,15 @@ void bind_run(py::module_& m) {
       py::arg("models") = std::vector<std::string>{}, py::arg("air_formation") = py::none(),
       py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
       py::arg("integrator") = "euler",
+      py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
+      py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
       "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth), as "
       "`airtwin run SCENARIO --seed N` does; the twin's set-up as Twin's (air, cfd, drag, "
       "object_physics, effects, mjcf, air_formation, air_formation_time_scale, integrator: the "
       "flags --air, --cfd, --drag, --object-physics, --effect, --mjcf, --air-formation (None: "
       "the default, True: --air-formation, False: --no-air-formation), "
-      "--air-formation-time-scale, --integrator); the controller's field model `table` "
+      "--air-formation-time-scale, --integrator; air_front_co_flow, air_front_counter_flow: "
+      "--air-front-co-flow, --air-front-counter-flow); the controller's field model `table` "
       "(a table CSV or field-model "
       "JSON, as --table; default the built-in table) and `models` (model.json or "
       "extended_model.json files, as --model).");
@@ -257,11 +261,13 @@ void bind_run(py::module_& m) {
                        bool vision, const std::string& calib, const std::string& calib_dir,
                        double vision_rate_hz, double noise_sigma_grey, double blur_sigma_px,
                        std::optional<bool> air_formation, double air_formation_time_scale,
-                       const std::string& integrator) {
+                       const std::string& integrator, double air_front_co_flow,
+                       double air_front_counter_flow) {
              return std::make_unique<PyEpisode>(
                  scenario_path, seed,
                  TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf, air_formation,
-                           air_formation_time_scale, integrator},
+                           air_formation_time_scale, integrator, air_front_co_flow,
+                           air_front_counter_flow},
                  ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
                  noise_sigma_grey, blur_sigma_px);
            }),
@@ -274,6 +280,8 @@ void bind_run(py::module_& m) {
            py::arg("blur_sigma_px") = 0.0, py::arg("air_formation") = py::none(),
            py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
            py::arg("integrator") = "euler",
+           py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
+           py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
            "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
            "models); vision: the controller sees "
            "through the detection pipeline on rendered frames (as --vision), with the camera "

@@ -155,10 +155,19 @@ void bind_twin(py::module_& m) {
                        const std::vector<std::string>& object_physics,
                        const std::vector<std::string>& effects, const std::string& mjcf,
                        std::optional<bool> air_formation, double air_formation_time_scale,
-                       const std::string& integrator) {
-             const TwinSetup setup{
-                 air,           std::move(cfd),           drag,      object_physics, effects, mjcf,
-                 air_formation, air_formation_time_scale, integrator};
+                       const std::string& integrator, double air_front_co_flow,
+                       double air_front_counter_flow) {
+             const TwinSetup setup{air,
+                                   std::move(cfd),
+                                   drag,
+                                   object_physics,
+                                   effects,
+                                   mjcf,
+                                   air_formation,
+                                   air_formation_time_scale,
+                                   integrator,
+                                   air_front_co_flow,
+                                   air_front_counter_flow};
              return std::make_unique<PyTwin>(scenario_path, seed, pan_deg, tilt_deg, jet_on, setup);
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
@@ -169,6 +178,8 @@ void bind_twin(py::module_& m) {
            py::arg("air_formation") = py::none(),
            py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
            py::arg("integrator") = "euler",
+           py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
+           py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
            "flags: air 'model' (the analytical field) or 'cfd' (the jet's CFD: `cfd`, a "
@@ -178,7 +189,9 @@ void bind_twin(py::module_& m) {
            "formation in the CFD's air (docs/twin.md): None on where the cases have it, True "
            "asks for it (--air-formation), False switches it off (--no-air-formation); "
            "air_formation_time_scale its times' factor (--air-formation-time-scale); integrator "
-           "'euler' or 'implicit' (--integrator).")
+           "'euler' or 'implicit' (--integrator); air_front_co_flow and air_front_counter_flow, "
+           "the new wall jet's front carried by the old air (--air-front-co-flow, "
+           "--air-front-counter-flow; both 0: the front of still air).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

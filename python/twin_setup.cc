@@ -52,6 +52,23 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
     params.air_transport.formation_time_scale = setup.air_formation_time_scale;
     params.air_transport.validate();
   }
+  const AirTransportParameters transport_defaults;
+  if (setup.air_front_co_flow != transport_defaults.front_co_flow ||
+      setup.air_front_counter_flow != transport_defaults.front_counter_flow) {
+    if (!params.cfd_air) {
+      throw FieldError("air_front_co_flow", "the carried front needs the CFD's air (air 'cfd')");
+    }
+    params.air_transport.front_co_flow = setup.air_front_co_flow;
+    params.air_transport.front_counter_flow = setup.air_front_counter_flow;
+    try {
+      params.air_transport.validate();
+    } catch (const FieldError& e) {
+      // The Python argument's name, not the library's field.
+      const bool co = e.field() == "air_transport.front_co_flow";
+      if (!co && e.field() != "air_transport.front_counter_flow") throw;
+      throw FieldError(co ? "air_front_co_flow" : "air_front_counter_flow", e.detail());
+    }
+  }
   if (setup.integrator != "euler" && setup.integrator != "implicit") {
     throw FieldError("integrator", "expected euler or implicit, got '" + setup.integrator + "'");
   }

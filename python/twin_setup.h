@@ -35,6 +35,12 @@ struct TwinSetup {
   double air_formation_time_scale = AirTransportParameters{}.formation_time_scale;
   /// MuJoCo's integrator for the built scene: "euler" | "implicit" (--integrator).
   std::string integrator = "euler";
+  /// The new wall jet's front carried by the old air in the CFD's air (sim/air_transport.h):
+  /// the shares of the old air's component along its path that speed it up where it flows its
+  /// way and slow it down where it flows against it (--air-front-co-flow,
+  /// --air-front-counter-flow; both 0: the front of still air).
+  double air_front_co_flow = AirTransportParameters{}.front_co_flow;
+  double air_front_counter_flow = AirTransportParameters{}.front_counter_flow;
 };
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must

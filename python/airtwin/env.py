@@ -108,7 +108,9 @@ class AirJetEnv:
     object_physics and effects (lists of 'NAME:key=value,...'), mjcf (a user's MJCF scene),
     air_formation (the wall jet's formation in the CFD's air: None on where the cases have it,
     True --air-formation, False --no-air-formation), air_formation_time_scale
-    (--air-formation-time-scale), integrator ('euler' | 'implicit');
+    (--air-formation-time-scale), integrator ('euler' | 'implicit'), air_front_co_flow and
+    air_front_counter_flow (the new wall jet's front carried by the old air:
+    --air-front-co-flow, --air-front-counter-flow);
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
     controller's field model and the twin's analytical air), models (model.json or
     extended_model.json files; controller_action() plans with them). Bad values raise
@@ -127,7 +129,7 @@ class AirJetEnv:
                  vision_rate_hz=10.0, noise_sigma_grey=0.0, blur_sigma_px=0.0, air="",
                  cfd=None, drag="eq8", object_physics=(), effects=(), mjcf="", table="",
                  models=(), air_formation=None, air_formation_time_scale=0.5,
-                 integrator="euler"):
+                 integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0):
         if action_type not in ("stagnation", "orientation"):
             raise ValueError("action_type: expected stagnation or orientation, got '%s'"
                              % action_type)
@@ -140,7 +142,9 @@ class AirJetEnv:
                            models=list(models),
                            air_formation=None if air_formation is None else bool(air_formation),
                            air_formation_time_scale=float(air_formation_time_scale),
-                           integrator=str(integrator))
+                           integrator=str(integrator),
+                           air_front_co_flow=float(air_front_co_flow),
+                           air_front_counter_flow=float(air_front_counter_flow))
         self._vision = dict(vision=bool(vision), calib=calib or "", vision_rate_hz=vision_rate_hz,
                             noise_sigma_grey=noise_sigma_grey, blur_sigma_px=blur_sigma_px)
         self._calib_dir = None

@@ -170,6 +170,9 @@ TEST(Cli, ProbeWritesTheTwinsAirAtItsPoints) {
   expect_failure("probe --program " + dir + "/program.csv --points " + dir +
                      "/points.csv --no-air-formation --air-formation --out " + dir + "/o.csv",
                  2, "excludes");
+  expect_failure("probe --program " + dir + "/program.csv --points " + dir +
+                     "/points.csv --air-front-co-flow -1 --out " + dir + "/o.csv",
+                 2, "--air-front-co-flow: expected [0, 2]");
   expect_failure("probe --program " + dir + "/missing.csv --points " + dir + "/points.csv --out " +
                      dir + "/o.csv",
                  1, "missing.csv");

@@ -151,6 +151,10 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
                      "excludes");
   expect_usage_error("collect --air cfd --air-formation --air-formation-time-scale 11 --out x.csv",
                      "--air-formation-time-scale: expected (0, 10]");
+  expect_usage_error("collect --air-front-co-flow 0 --out x.csv",
+                     "--air-front-co-flow and --air-front-counter-flow need --air cfd");
+  expect_usage_error("collect --air cfd --air-front-counter-flow 2.5 --out x.csv",
+                     "--air-front-counter-flow: expected [0, 2]");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
   expect_usage_error("collect --object-physics tracer:mu_k=0.4 --out x.csv",
                      "--object-physics: object physics 'tracer:mu_k=0.4': tracer.mu_k belongs to "

@@ -149,6 +149,19 @@ def test_probe_air_equals_the_cli_probe_to_its_printed_digits(tmp_path):
     assert np.abs(whole - u).max() > 0.5
     with pytest.raises(ValueError, match="formation_time_scale"):
         airtwin.probe_air(program, points, formation=False, formation_time_scale=0.25)
+    # the front of still air, as the CLI's --air-front-co-flow 0
+    _, still = airtwin.probe_air(program, points, cfd=cfd, end_s=0.8, interval_s=0.02,
+                                 front_co_flow=0.0)
+    status, _, stderr = run_cli("probe", "--program", tmp_path / "program.csv", "--points",
+                                tmp_path / "points.csv", "--end", 0.8, "--interval", 0.02,
+                                "--air-front-co-flow", 0, "--out", tmp_path / "still.csv")
+    assert status == 0, stderr
+    with open(tmp_path / "still.csv", newline="") as f:
+        rows = np.array([[float(r[k]) for k in ("ux", "uy")] for r in csv.DictReader(f)])
+    np.testing.assert_allclose(still.reshape(-1, 2), rows, atol=6e-6)
+    assert np.abs(still - u).max() > 0.1  # the carried front came sooner somewhere
+    with pytest.raises(ValueError, match="front_co_flow: expected \\[0, 2\\]"):
+        airtwin.probe_air(program, points, front_co_flow=-1.0)
     with pytest.raises(ValueError, match="air_probe.interval_s"):
         airtwin.probe_air(program, points, interval_s=0.003)
     with pytest.raises(ValueError, match="points"):

@@ -104,6 +104,29 @@ def test_the_integrator_and_the_formation_time_scale_equal_the_cli_run(tmp_path)
         airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=-1.0)
 
 
+def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
+    """air_front_co_flow 0 is --air-front-co-flow 0 to the byte, and changes the run (the line's
+    re-aims meet moving air); bad weights name the keyword, and need the CFD's air."""
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+                                "--air-front-co-flow", 0, "--quiet", "--out", out)
+    assert status == 0, stderr
+    cfd = airtwin.CfdField.read_dir()
+    still = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_front_co_flow=0.0)
+    assert still.log_csv() == (out / "log.csv").read_text()
+    assert still.log_csv() != airtwin.run_scenario(str(scenario), 1, cfd=cfd).log_csv()
+    with pytest.raises(ValueError, match="air_front_counter_flow: expected \\[0, 2\\]"):
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_front_counter_flow=3.0)
+    with pytest.raises(ValueError, match="air_front_co_flow: the carried front needs the CFD"):
+        airtwin.run_scenario(str(scenario), 1, air="model", air_front_co_flow=0.5)
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-front-co-flow", 0.5,
+                                "--out", tmp_path / "bad")
+    assert status != 0 and "--air-front-co-flow and --air-front-counter-flow need --air cfd" \
+        in stderr
+
+
 def test_a_bad_scenario_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(open(LINE).read().replace("kind: path", "kind: paths"))
