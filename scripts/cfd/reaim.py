@@ -368,7 +368,7 @@ MIN_CHANGE = 0.5          # m/s: points where the air changes less are left out 
 R_BAND = (0.1, 0.7)       # m from the new s: where the Appendix D objects start (0.2-0.58 m)
 
 
-CARRIED_COUNTER = [0.2]    # counter-flow weights tried beside the default 0
+CARRIED_COUNTER = [0.2, 1.0]         # counter-flow weights tried beside the default 0
 CARRIED_CO = [0.5]         # co-flow weights tried beside the default 1
 BAND_VARIANTS = ("still, no formation", "still, formation x0.5", "carried, no formation",
                  "carried, formation x0.5")
