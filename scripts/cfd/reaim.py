@@ -77,8 +77,8 @@ def cases():
     whose mesh and steady ends (the same tilts, the same rod) a case shares."""
     reaim = {"name": "reaim_t00.0_t22.5_d40", "from_deg": 0.0, "to_deg": 22.5}
     visit = {"name": "visit_t00.0_t22.5_h0.10_d40", "from_deg": 0.0, "to_deg": 22.5, "visit_s": 0.1}
-    # the way back, held 0.6 s (the half-way times 0.1-0.6 m from s come within it)
-    back = {"name": "reaim_t22.5_t00.0_d40", "from_deg": 22.5, "to_deg": 0.0, "hold_after_s": 0.6}
+    # the way back, held 0.8 s (the half-way times 0.1-0.7 m from s come within it)
+    back = {"name": "reaim_t22.5_t00.0_d40", "from_deg": 22.5, "to_deg": 0.0, "hold_after_s": 0.8}
     for c in (reaim, visit, back):
         c.setdefault("mesh", reaim["name"])
     return [reaim, visit, back]
