@@ -264,7 +264,8 @@ def cmd_transient(name, src_dir, case_dir):
     write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES_TRANSIENT)
     write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION_TRANSIENT)
     meta = json.load(open(os.path.join(src_dir, "case.json")))
-    meta.update({"case": name, "kind": "visit" if "visit_s" in case else "reaim",
+    meta.update({"case": name, "from_deg": case["from_deg"], "to_deg": case["to_deg"],
+                 "kind": "visit" if "visit_s" in case else "reaim",
                  "mesh_case": case["mesh"], "visit_s": case.get("visit_s"),
                  "started_from_steady_iteration": int(last), "end_time_s": end,
                  "slew_rad_s": SLEW_RAD_S, "slew_s": slew, "turn_start_s": HOLD_BEFORE_S,
