@@ -83,8 +83,8 @@ AirTransport::AirTransport(const AirTransportParameters& params, double timestep
       reach2[k] = r * r;
     }
   }
-  // The still-air front's pace, the still lag's slope, for the carried front.
-  if (carried()) {
+  // The still-air front's pace, the still lag's slope (the carried front's u_f).
+  {
     const int n = static_cast<int>(std::ceil(10.0 / kPaceDr));
     pace_.resize(static_cast<size_t>(n));
     for (int j = 0; j < n; ++j) {
@@ -127,11 +127,7 @@ double AirTransport::lag_s(double r_m, double carry) const {
 }
 
 double AirTransport::front_speed_mps(double r_m) const {
-  if (pace_.empty()) {
-    const double h = kPaceDr;
-    const double r = std::max(0.0, r_m);
-    return 1.0 / std::max((still_lag_s(r + h) - still_lag_s(r)) / h, 1e-3);
-  }
+  if (pace_.empty()) return std::numeric_limits<double>::infinity();  // the lag is off
   const double j = std::max(0.0, r_m) / kPaceDr;
   const size_t i = std::min(static_cast<size_t>(j), pace_.size() - 1);
   return 1.0 / pace_[i];

@@ -125,7 +125,8 @@ class AirTransport {
   /// phi for a straight path of length `length_m` from s: `along` holds the old air's component
   /// along the path (m/s) at n equal segments' midpoints. 1 when the front is not carried.
   double carry_factor(const double* along, int n, double length_m) const;
-  /// The front's speed in still air r from s (m/s): 1 / the lag's slope (never above 1000).
+  /// The front's speed in still air r from s (m/s): 1 / the lag's slope (never above 1000;
+  /// infinite when the lag is off).
   double front_speed_mps(double r_m) const;
   /// True when the air forms over time (a formation is in use and the lag is on).
   bool forms() const { return formation_ != nullptr && enabled(); }
@@ -160,7 +161,7 @@ class AirTransport {
   static constexpr int kCarryLevels = 16;  // phi from 1/4 to 4
   std::vector<double> reach2_;
   int levels_ = 1;
-  // 1 / the still-air front's speed (s/m) on a 5 mm grid from s.
+  // 1 / the still-air front's speed (s/m) on a 5 mm grid from s (empty when the lag is off).
   std::vector<double> pace_;
   // The box around every kept stagnation point: no orientation reaches a point p sooner than
   // the first k whose reach exceeds p's distance from it.

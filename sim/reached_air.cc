@@ -43,6 +43,13 @@ const CfdOrientedField& ReachedAir::lagged(int steps) {
   return lagged_.back().second;
 }
 
+const CfdOrientedField* ReachedAir::last_reached(const PointState& f) {
+  const int before = f.steps + 1;
+  const NozzleOrientation& b = transport_.at_lag(before);
+  if (b.pan_rad != f.reached.pan_rad || b.tilt_rad != f.reached.tilt_rad) return nullptr;
+  return &lagged(before);
+}
+
 double ReachedAir::carry_factor(PointState& f, const Eigen::Vector2d& p_W, double z_m) {
   // phi changes slowly along a sweep: it is taken again when the newest s or the reached
   // orientation's s has moved 5 cm or the point 2 cm, from at most kSamples of the old air 10 cm
@@ -63,17 +70,10 @@ double ReachedAir::carry_factor(PointState& f, const Eigen::Vector2d& p_W, doubl
   const Eigen::Vector2d d = p_W - s0;
   const double length = d.norm();
   if (length < 0.02) return f.carry = 1.0;
-  // The air the point felt last step: its orientation is one step further back now (usually
-  // already built for this step).
-  const int before = f.steps + 1;
-  const NozzleOrientation& b = transport_.at_lag(before);
+  // The air the point felt last step.
   std::optional<CfdOrientedField> built;
-  const CfdOrientedField* old = nullptr;
-  if (b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad) {
-    old = &lagged(before);
-  } else {
-    old = &built.emplace(cfd_.at(f.reached));
-  }
+  const CfdOrientedField* old = last_reached(f);
+  if (old == nullptr) old = &built.emplace(cfd_.at(f.reached));
   const int n = std::clamp(static_cast<int>(std::ceil(length / kSegment)), 2, kSamples);
   const Eigen::Vector2d e = d / length;
   std::array<double, kSamples> along{};
@@ -95,12 +95,9 @@ ReachedAir::PointAir ReachedAir::at(size_t i, const Eigen::Vector2d& p_W, double
     if (transport_.forms()) {
       const CfdOrientedField& reached = steps == 0 ? *present_ : lagged(steps);
       if (changed) {
-        // Last step's orientation is one step further back now, usually already built.
-        const int before = f.steps + 1;
-        const NozzleOrientation& b = transport_.at_lag(before);
-        const bool cached = b.pan_rad == f.reached.pan_rad && b.tilt_rad == f.reached.tilt_rad;
+        const CfdOrientedField* last = last_reached(f);
         const Eigen::Vector2d u_before =
-            cached ? lagged(before).at(p_W, z_m).u_W : cfd_.at(f.reached, p_W, z_m).u_W;
+            last ? last->at(p_W, z_m).u_W : cfd_.at(f.reached, p_W, z_m).u_W;
         f.departure -= reached.at(p_W, z_m).u_W - u_before;
       }
       f.departure *= transport_.formation_decay((p_W - reached.stagnation_point()).norm());

@@ -53,6 +53,9 @@ class ReachedAir {
   // The CFD's air of the orientation `steps` back (> 0), built once per step.
   const CfdOrientedField& lagged(int steps);
   struct PointState;
+  // The air of the orientation point f felt last step, when this step has it built (it is one
+  // step further back now, usually looked up already); null otherwise.
+  const CfdOrientedField* last_reached(const PointState& f);
   // phi for point i at p_W (sim/air_transport.h): the front from the newest s through the air
   // the point felt last step.
   double carry_factor(PointState& f, const Eigen::Vector2d& p_W, double z_m);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "common/errors.h"
@@ -213,22 +214,19 @@ TEST(AirTransport, BadParametersNameTheField) {
   p = AirTransportParameters{};
   p.max_lag_s = std::nan("");
   EXPECT_THROW(p.validate(), InputError);
-  for (const double bad : {-0.1, 2.5, std::nan("")}) {
-    p = AirTransportParameters{};
-    p.front_co_flow = bad;
-    try {
-      p.validate();
-      FAIL() << "no error for front_co_flow " << bad;
-    } catch (const FieldError& e) {
-      EXPECT_EQ(e.field(), "air_transport.front_co_flow");
-    }
-    p = AirTransportParameters{};
-    p.front_counter_flow = bad;
-    try {
-      p.validate();
-      FAIL() << "no error for front_counter_flow " << bad;
-    } catch (const FieldError& e) {
-      EXPECT_EQ(e.field(), "air_transport.front_counter_flow");
+  const std::pair<double AirTransportParameters::*, const char*> weights[] = {
+      {&AirTransportParameters::front_co_flow, "air_transport.front_co_flow"},
+      {&AirTransportParameters::front_counter_flow, "air_transport.front_counter_flow"}};
+  for (const auto& [weight, field] : weights) {
+    for (const double bad : {-0.1, 2.5, std::nan("")}) {
+      p = AirTransportParameters{};
+      p.*weight = bad;
+      try {
+        p.validate();
+        ADD_FAILURE() << "no error for " << field << " " << bad;
+      } catch (const FieldError& e) {
+        EXPECT_EQ(e.field(), field);
+      }
     }
   }
 }
