@@ -2,7 +2,9 @@
 """Writes, inspects and converts the OpenFOAM cases of the rig's jet (docs/cfd.md).
 
 Subcommands (all used by run_all.sh):
-  list                               the campaign's cases, one per line: name, tilt, mesh level, inlet D
+  list [MODEL]                       the campaign's cases, one per line: name, tilt, mesh level, inlet D;
+                                     with a RAS model other than kEpsilon, the turbulence-model study's
+                                     cases for that model (MODELS below)
   write    CASE DIR                  case files before meshing: blockMeshDict, rod STL, snappy, schemes
   fields   CASE DIR                  after meshing: inlet area from the mesh, inlet speed, 0/ fields
   progress DIR                       one line: iteration and latest initial residuals of the solver log
@@ -49,9 +51,33 @@ UNITS = {"ux": "m/s", "uy": "m/s", "uz": "m/s", "k": "m^2/s^2", "epsilon": "m^2/
          "p": "m^2/s^2 (kinematic, relative to ambient)"}
 WALLJET_DIRS = [0.0, 45.0, 90.0, 135.0, 180.0]
 
+# RAS models of the steady cases: kEpsilon is the campaign's (the paper's COMSOL CFD used it); the
+# others are the turbulence-model study (docs/cfd.md, "Sensitivity to the turbulence model"), whose
+# cases carry the suffix in their names and whose data go to data/cfd/turbulence/<model>/
+DEFAULT_MODEL = "kEpsilon"
+MODELS = {"kEpsilon": "", "kOmegaSST": "_sst", "realizableKE": "_rke"}
+MODEL_TEXT = {"kEpsilon": "standard k-epsilon",
+              "kOmegaSST": "k-omega SST (OpenFOAM's kOmegaSST, Menter et al. 2003)",
+              "realizableKE": "realizable k-epsilon (OpenFOAM's realizableKE, Shih et al. 1995)"}
+STUDY_TILTS = [22.5, 45.0, 0.0]   # the study's cases in run order, mesh 1, 20 mm inlet
 
-def campaign():
-    """Cases in run order: the most useful first."""
+
+def check_model(model):
+    if model not in MODELS:
+        sys.exit("cfdcase: unknown RAS model '%s' (expected one of %s)" % (model, ", ".join(MODELS)))
+    return model
+
+
+def campaign(model=DEFAULT_MODEL):
+    """Cases in run order: the most useful first. A model other than kEpsilon: the study's cases."""
+    check_model(model)
+    if model != DEFAULT_MODEL:
+        out = []
+        for t in STUDY_TILTS:
+            base = "tilt%04.1f_mesh%d_d%02d" % (t, 1, 20)
+            out.append({"name": base + MODELS[model], "tilt_deg": t, "mesh_level": 1, "inlet_d": 0.020,
+                        "held_out": False, "turbulence_model": model, "reference_case": base})
+        return out
     cases = []
     for t in [0.0, 22.5, 45.0, 15.0, 30.0, 60.0, 37.5]:
         cases.append((t, 1, 0.020))
@@ -68,10 +94,15 @@ def campaign():
 
 
 def find_case(name):
-    for c in campaign():
-        if c["name"] == name:
-            return c
+    for model in MODELS:
+        for c in campaign(model):
+            if c["name"] == name:
+                return c
     sys.exit("cfdcase: unknown case '%s' (see run_all.sh --list)" % name)
+
+
+def model_of(case):
+    return case.get("turbulence_model", DEFAULT_MODEL)
 
 
 # ---------------------------------------------------------------- geometry
@@ -413,8 +444,24 @@ def write_feature_dict(case_dir):
 """)
 
 
-def write_common(case_dir):
-    """The decomposition over 2 ranks, air's viscosity and standard k-epsilon."""
+def schemes(model):
+    """fvSchemes: the campaign's, with omega's convection for k-omega SST."""
+    if model == "kOmegaSST":
+        return SCHEMES.replace("    div(phi,epsilon) bounded Gauss upwind;\n",
+                               "    div(phi,omega)  bounded Gauss upwind;\n")
+    return SCHEMES
+
+
+def solution(model):
+    """fvSolution: the campaign's; k-omega SST solves, relaxes and checks omega as k-epsilon does
+    epsilon (the same solver, relaxation 0.7 and residual target)."""
+    if model == "kOmegaSST":
+        return SOLUTION.replace("(U|k|epsilon)", "(U|k|omega)").replace('"(k|epsilon)"', '"(k|omega)"')
+    return SOLUTION
+
+
+def write_common(case_dir, model=DEFAULT_MODEL):
+    """The decomposition over 2 ranks, air's viscosity and the RAS model (standard k-epsilon)."""
     write_file(os.path.join(case_dir, "system/decomposeParDict"), "dictionary", "decomposeParDict",
                "numberOfSubdomains 2;\nmethod hierarchical;\ncoeffs { n (2 1 1); order xyz; }\n"
                "hierarchicalCoeffs { n (2 1 1); delta 0.001; order xyz; }\n")
@@ -422,8 +469,8 @@ def write_common(case_dir):
                "transportProperties", "transportModel Newtonian;\nnu [0 2 -1 0 0 0 0] %g;\n" % NU)
     write_file(os.path.join(case_dir, "constant/turbulenceProperties"), "dictionary",
                "turbulenceProperties",
-               "simulationType RAS;\nRAS\n{\n    RASModel kEpsilon;\n    turbulence on;\n"
-               "    printCoeffs on;\n}\n")
+               "simulationType RAS;\nRAS\n{\n    RASModel %s;\n    turbulence on;\n"
+               "    printCoeffs on;\n}\n" % check_model(model))
 
 
 def cmd_write(name, case_dir):
@@ -436,9 +483,10 @@ def cmd_write(name, case_dir):
     write_feature_dict(case_dir)
     write_file(os.path.join(case_dir, "system/controlDict"), "dictionary", "controlDict",
                CONTROL % (END_ITER, 100))
-    write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", SCHEMES)
-    write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution", SOLUTION)
-    write_common(case_dir)
+    write_file(os.path.join(case_dir, "system/fvSchemes"), "dictionary", "fvSchemes", schemes(model_of(case)))
+    write_file(os.path.join(case_dir, "system/fvSolution"), "dictionary", "fvSolution",
+               solution(model_of(case)))
+    write_common(case_dir, model_of(case))
     os.makedirs(os.path.join(case_dir, "constant/triSurface"), exist_ok=True)
     with open(os.path.join(case_dir, "constant/triSurface/rod.stl"), "w") as fh:
         fh.write(rod_stl(g))
@@ -551,6 +599,27 @@ def write_fields(zero, inlet, side, u_table, u0, k_table, k0, eps_table, eps0):
                % inlet + walls % ("nutkWallFunction", "        value uniform 0;\n") + side + "}\n")
 
 
+def write_omega(zero, inlet, side, table, v0, amb):
+    """k-omega SST's 0/omega in place of 0/epsilon: the inlet following its table, omega wall functions
+    on the floor and the rod, the ambient omega flowing in at the atmosphere."""
+    walls = "    \"(floor|rod_wall)\"\n    {\n        type omegaWallFunction;\n        value uniform %g;\n    }\n"
+    write_file(os.path.join(zero, "omega"), "volScalarField", "omega",
+               "dimensions [0 0 -1 0 0 0 0];\n\ninternalField uniform %g;\n\nboundaryField\n{\n"
+               "    %s\n    {\n        type uniformFixedValue;\n        uniformValue table (%s);\n"
+               "        value uniform %s;\n    }\n" % (amb, inlet, table, v0)
+               + walls % amb + side +
+               "    atmosphere\n    {\n        type inletOutlet;\n        inletValue uniform %g;\n"
+               "        value uniform %g;\n    }\n}\n" % (amb, amb))
+    eps = os.path.join(zero, "epsilon")
+    if os.path.exists(eps):
+        os.remove(eps)
+
+
+def omega_of(k, eps):
+    """The specific dissipation rate of k and epsilon: omega = epsilon / (C_mu k)."""
+    return eps / (CMU * k)
+
+
 def cmd_fields(name, case_dir):
     case = find_case(name)
     g = Geo(case)
@@ -571,12 +640,24 @@ def cmd_fields(name, case_dir):
                  ramp_table(lambda f: v3(f * uvec)), v3(RAMP_FROM * uvec),
                  ramp_table(lambda f: "%.9g" % (k_in * f ** 2)), "%.9g" % (k_in * RAMP_FROM ** 2),
                  ramp_table(lambda f: "%.9g" % (eps_in * f ** 3)), "%.9g" % (eps_in * RAMP_FROM ** 3))
+    model = model_of(case)
+    if model == "kOmegaSST":
+        # inlet omega from k and the length scale, ambient omega from the ambient k and epsilon; along
+        # the ramp omega = sqrt(k) / (C_mu^0.25 l) follows U as k does U^2
+        om_in = omega_of(k_in, eps_in)
+        write_omega(os.path.join(case_dir, "0"), "rod_inlet", SYMMETRY,
+                    ramp_table(lambda f: "%.9g" % (om_in * f)), "%.9g" % (om_in * RAMP_FROM),
+                    omega_of(K_AMB, EPS_AMB))
     info = {"cells": count_cells(mesh), "inlet_faces": nfaces, "inlet_area_m2": a_eff,
             "inlet_area_nominal_m2": a_nom, "inlet_area_error_pct": 100.0 * (a_eff / a_nom - 1.0),
             "inlet_speed_m_s": u, "k_inlet": k_in, "epsilon_inlet": eps_in,
             "ramp": {"iterations": RAMP_ITER, "from_fraction": RAMP_FROM},
             "generator_commit": git_commit_of(os.path.dirname(os.path.abspath(__file__))),
             "momentum_flux_kinematic_m4_s2": 2.0 * u * u * a_eff}
+    if model != DEFAULT_MODEL:
+        info["turbulence_model"] = model
+    if model == "kOmegaSST":
+        info["omega_inlet"] = omega_of(k_in, eps_in)
     with open(os.path.join(case_dir, "inlet.json"), "w") as fh:
         json.dump(info, fh, indent=1)
     print("cells %d, inlet %d faces, area %.4g m^2 (%.2f %% off nominal), U %.2f m/s" %
@@ -624,7 +705,7 @@ def cmd_progress(case_dir):
     clock = []
     it, res, conv, _ = parse_log(os.path.join(case_dir, "log.simpleFoam"), clock)
     parts = ["iteration %d" % it]
-    for f in ("p", "Ux", "Uz", "k", "epsilon"):
+    for f in ("p", "Ux", "Uz", "k", "epsilon", "omega"):
         if f in res:
             parts.append("residual %s %.1e" % (f, res[f]))
     if conv:
@@ -687,10 +768,12 @@ def cloud(name, pts):
 
 
 def cmd_sampledict(name, case_dir):
-    g = Geo(find_case(name))
+    case = find_case(name)
+    g = Geo(case)
     xx, yy = np.meshgrid(grid_x(), grid_y())
     body = ("type sets;\nlibs (\"libsampling.so\");\nwriteControl writeTime;\n"
-            "interpolationScheme cellPoint;\nsetFormat raw;\nfields (U p k epsilon);\n\nsets\n(\n")
+            "interpolationScheme cellPoint;\nsetFormat raw;\nfields (U p k %s);\n\nsets\n(\n"
+            % ("omega" if model_of(case) == "kOmegaSST" else "epsilon"))
     for i, h in enumerate(HEIGHTS):
         pts = np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, h)], axis=1)
         body += cloud("h%d" % i, pts)
@@ -723,6 +806,8 @@ def read_set(folder, setname):
                 col += 1
     if pts is None:
         sys.exit("cfdcase: no samples for set %s in %s" % (setname, folder))
+    if "omega" in data and "epsilon" not in data:   # k-omega SST: epsilon = C_mu k omega (beta* = C_mu)
+        data["epsilon"] = CMU * data["k"] * data["omega"]
     return pts, data
 
 
@@ -831,7 +916,7 @@ def cmd_convert(name, case_dir, out_dir):
                   "turbulence_intensity": INTENSITY, "length_scale_m": LSCALE * g.D,
                   "speed_ramp": inlet.get("ramp")},
         "ambient": {"k_m2_s2": K_AMB, "epsilon_m2_s3": EPS_AMB, "nu_m2_s": NU},
-        "model": "steady RANS, standard k-epsilon, simpleFoam (SIMPLEC)",
+        "model": "steady RANS, %s, simpleFoam (SIMPLEC)" % MODEL_TEXT[model_of(case)],
         "iterations": it,
         "converged": conv is not None,
         "residual_target": RESIDUAL,
@@ -861,6 +946,15 @@ def cmd_convert(name, case_dir, out_dir):
         "csv": {"centreline": name + "_centreline.csv", "axisline": name + "_axisline.csv",
                 "walljet": name + "_walljet.csv"},
     }
+    if model_of(case) != DEFAULT_MODEL:
+        # the turbulence-model study: its model, and the k-epsilon case it is compared with
+        hdr["turbulence_model"] = model_of(case)
+        hdr["reference_case"] = case["reference_case"]
+        hdr["reference_data"] = "data/cfd/%s.json" % case["reference_case"]
+        if model_of(case) == "kOmegaSST":
+            hdr["inlet"]["omega_1_s"] = inlet.get("omega_inlet")
+            hdr["ambient"]["omega_1_s"] = omega_of(K_AMB, EPS_AMB)
+            hdr["units"] = dict(UNITS, epsilon="m^2/s^3 (from the model's omega: C_mu k omega, C_mu = 0.09)")
     with open(os.path.join(out_dir, name + ".json"), "w") as fh:
         json.dump(hdr, fh, indent=1)
         fh.write("\n")
@@ -893,7 +987,7 @@ def main(argv):
         sys.exit(__doc__)
     cmd = argv[1]
     if cmd == "list":
-        for c in campaign():
+        for c in campaign(argv[2] if len(argv) > 2 else DEFAULT_MODEL):
             print("%s %g %d %g" % (c["name"], c["tilt_deg"], c["mesh_level"], c["inlet_d"]))
     elif cmd == "write":
         cmd_write(argv[2], argv[3])

@@ -3,11 +3,15 @@
 # every case into data/cfd/. Resumable: a case whose data/cfd/<case>.json exists is skipped; an
 # interrupted case restarts cleanly (from its finished mesh or solution when those are complete).
 # Usage: bash scripts/cfd/run_all.sh [--work DIR] [--only CASE] [--list] [--np 1|2] [--commit]
+#                                    [--model kEpsilon|kOmegaSST|realizableKE]
 #   --work DIR   raw cases (default: cfd-work/ at the repository top; not versioned)
 #   --only CASE  run one case (names from --list)
 #   --list       list the cases in run order, with their state
 #   --np N       MPI ranks for the solver: 1 (serial, default) or 2 (hierarchical decomposition)
 #   --commit     git-commit each finished case's files in data/cfd/ (only those paths)
+#   --model M    RAS model: kEpsilon (default, the campaign) or, for the turbulence-model study
+#                (tilts 22.5, 45, 0; mesh 1, 20 mm inlet), kOmegaSST (cases *_sst) or realizableKE
+#                (cases *_rke), their data in data/cfd/turbulence/<model>/
 set -uo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -18,6 +22,7 @@ only=""
 list=0
 np=1
 commit=0
+model=kEpsilon
 py=/usr/bin/python3
 
 while [ $# -gt 0 ]; do
@@ -27,11 +32,17 @@ while [ $# -gt 0 ]; do
     --list) list=1; shift ;;
     --np) np="$2"; shift 2 ;;
     --commit) commit=1; shift ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --model) model="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "run_all.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 case "$np" in 1|2) ;; *) echo "run_all.sh: --np must be 1 or 2" >&2; exit 2 ;; esac
+case "$model" in
+  kEpsilon) ;;
+  kOmegaSST|realizableKE) out="$out/turbulence/$model" ;;
+  *) echo "run_all.sh: unknown --model '$model' (expected kEpsilon, kOmegaSST or realizableKE)" >&2; exit 2 ;;
+esac
 
 export WM_PROJECT_DIR=/usr/share/openfoam
 for tool in blockMesh surfaceFeatureExtract snappyHexMesh checkMesh simpleFoam postProcess; do
@@ -49,7 +60,11 @@ if [ "$np" = 2 ] && ! command -v mpirun >/dev/null 2>&1; then
   exit 1
 fi
 
-mapfile -t cases < <("$py" "$here/cfdcase.py" list)
+if [ "$model" = kEpsilon ]; then
+  mapfile -t cases < <("$py" "$here/cfdcase.py" list)
+else
+  mapfile -t cases < <("$py" "$here/cfdcase.py" list "$model")
+fi
 total=${#cases[@]}
 
 if [ "$list" = 1 ]; then
@@ -86,9 +101,9 @@ commit_case() {
   for f in "$out/$name".json "$out/$name".f32 "$out/$name"_*.csv; do
     [ -f "$f" ] && files+=("${f#"$top"/}")
   done
-  echo "$tag: $(commit_data "$top" "CFD data: $name" \
-    "Floor field, jet centreline and wall-jet profiles of case $name from scripts/cfd/run_all.sh (docs/cfd.md)." \
-    "${files[@]}")"
+  local body="Floor field, jet centreline and wall-jet profiles of case $name from scripts/cfd/run_all.sh (docs/cfd.md)."
+  [ "$model" != kEpsilon ] && body="Floor field, jet centreline and wall-jet profiles of case $name, RAS model $model, from scripts/cfd/run_all.sh --model $model (docs/cfd.md, sensitivity to the turbulence model)."
+  echo "$tag: $(commit_data "$top" "CFD data: $name" "$body" "${files[@]}")"
 }
 
 solve() {
@@ -164,6 +179,7 @@ for line in "${cases[@]}"; do
   read -r name tilt level d <<<"$line"
   [ -n "$only" ] && [ "$name" != "$only" ] && continue
   tag="[$i/$total] tilt $tilt deg, mesh $level, inlet $(awk -v d="$d" 'BEGIN{printf "%g", d*1000}') mm"
+  [ "$model" != kEpsilon ] && tag="$tag, $model"
   if [ -f "$out/$name.json" ]; then
     echo "$tag: done before, skipped"
     continue
