@@ -89,6 +89,8 @@ void run_run(const RunArgs& a) {
   }
   if (result.success && result.loop.completion_time_s) {
     std::printf(" in %.1f s", *result.loop.completion_time_s);
+  } else if (result.loop.lost_every_object) {
+    std::printf(" (at %.1f s the perception had lost every object)", result.loop.end_time_s);
   } else if (!result.loop.success) {
     std::printf(" (time limit %.0f s", scenario.task.time_limit_s);
     if (result.loop.objects_seen_at_end < result.n_objects) {

@@ -140,6 +140,10 @@ void ClosedLoop::observe() {
   if (controller_.observe(observation_)) {
     result_.success = true;
     result_.completion_time_s = controller_.progress().done_time_s();
+  } else if (controller_.known().empty()) {
+    // Blown out of the camera's view or lost in merges, and forgotten: a failed run, not an
+    // error of the input.
+    result_.lost_every_object = true;
   }
   time_up_ = rig_.time() >= options_.time_limit_s;
 }

@@ -105,6 +105,9 @@ struct LoopResult {
   std::optional<double> completion_time_s;  ///< rig time when the task was seen done
   double end_time_s = 0.0;                  ///< rig time when the loop stopped
   int objects_seen_at_end = 0;              ///< objects in the last observation
+  /// The loop stopped early, unsuccessful: the perception had lost every object and the
+  /// controller had forgotten them all, so there was nothing left to plan for.
+  bool lost_every_object = false;
   std::vector<DecisionRecord> decisions;
 };
 
@@ -117,8 +120,9 @@ class ClosedLoop {
   /// limit that is not a positive number of seconds. Takes the first observation.
   ClosedLoop(Rig& rig, Controller& controller, const LoopOptions& options);
 
-  /// The task is done, or rig time has reached the time limit: no more commands.
-  bool finished() const { return result_.success || time_up_; }
+  /// The task is done, rig time has reached the time limit, or no object is known any more (the
+  /// perception lost them all): no more commands.
+  bool finished() const { return result_.success || time_up_ || result_.lost_every_object; }
   /// The controller's next decision from what is known (its random stream advances).
   DecisionRecord decide() { return controller_.decide(pan_rad_); }
   /// Aims the rig at the decision's orientation and keeps the record (result().decisions).
@@ -149,8 +153,9 @@ class ClosedLoop {
   double pan_rad_ = 0.0;
 };
 
-/// Runs the loop on `rig` until the task is done or time runs out. `on_decision` (optional) is
-/// called after each aim. Errors of the rig or the controller propagate.
+/// Runs the loop on `rig` until the task is done, time runs out or every object is lost.
+/// `on_decision` (optional) is called after each aim. Errors of the rig or the controller
+/// propagate.
 LoopResult run_closed_loop(Rig& rig, Controller& controller, const LoopOptions& options,
                            const std::function<void(const DecisionRecord&)>& on_decision = {});
 

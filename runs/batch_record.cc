@@ -35,6 +35,7 @@ std::string failed_record_json(const RunKey& key, int n_objects, double time_lim
   j["perception"] = perception;
   j["controller_done"] = false;
   j["objects_seen_at_end"] = 0;
+  j["lost_every_object"] = false;
   j["error"] = message;
   j["wall_s"] = wall_s;
   return j.dump(2) + "\n";

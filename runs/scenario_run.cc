@@ -87,6 +87,7 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["perception"] = r.perception;
   j["controller_done"] = r.loop.success;
   j["objects_seen_at_end"] = r.loop.objects_seen_at_end;
+  j["lost_every_object"] = r.loop.lost_every_object;
   if (r.perception == "vision") {
     const TrackerCounters& c = r.vision_counters;
     j["vision"] = {{"frames", r.vision_frames},

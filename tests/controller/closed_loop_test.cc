@@ -168,6 +168,30 @@ TEST(ClosedLoop, AnObjectOutOfViewKeepsTheTaskOpen) {
   }
 }
 
+// The only object blown out of the camera's view for good: once it is forgotten there is
+// nothing to plan for, and the run ends there, failed (it used to throw, which ended a whole
+// batch on one run's outcome).
+TEST(ClosedLoop, EndsFailedWhenEveryObjectIsLost) {
+  const AirFieldModel model = AirFieldModel::with_default_table();
+  ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}}});
+  rig.hide_from_ = 2;  // seen at t = 0 only
+  rig.report_hidden_out_of_view_ = true;
+  TaskSpec agg;
+  agg.kind = TaskKind::kAggregation;
+  agg.zone = Zone{{0.0, 0.0}, 0.01};
+  agg.time_limit_s = 30.0;
+  Controller controller(model, CemParameters::line_defaults(), agg, {{"tracer", kTracerDynamics}},
+                        2, /*forget_after_s=*/3.0);
+  const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.8, 30.0});
+  EXPECT_FALSE(result.success);
+  EXPECT_TRUE(result.lost_every_object);
+  EXPECT_EQ(result.objects_seen_at_end, 0);
+  // Observations at 0, 1.8, 3.6 s: unseen for 3.6 s > 3 s at the third, and no decision after it.
+  EXPECT_DOUBLE_EQ(result.end_time_s, 3.6);
+  EXPECT_EQ(result.decisions.size(), 2u);
+  EXPECT_TRUE(controller.known().empty());
+}
+
 TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
   const AirFieldModel model = AirFieldModel::with_default_table();
   ModelRig rig(model, {ObservedObject{"g", "glass", {0.3, 0.0}, {0, 0}}});
