@@ -7,7 +7,12 @@
 // (qpos, qvel, warm start, time) is copied into a bare mjData of the same mjModel, which then
 // takes one plain mj_step with no air registered (the dispatcher pushes nothing): the same
 // configuration, contacts and velocities, minus the air and the twin's bookkeeping. That pair
-// gives `ratio`. Then the bare data runs a chunk on its own from the twin's state (`ratio_free`):
+// gives `ratio`. A third mjData takes the same plain mj_step from the same state with the twin's
+// air as given generalized forces (qfrc_applied: the twin's qfrc_passive of that step less the
+// bare step's): MuJoCo doing the twin's physics, the objects sliding as the air pushes them,
+// without airtwin's code (`ratio_forced`: what the twin's own work costs; `ratio` also counts
+// the extra constraint work the air's pushes cause MuJoCo). Then the bare data runs a chunk on
+// its own from the twin's state (`ratio_free`):
 // without air its objects slow down and stop, so its solver has less to do than the twin's. A
 // twin that has run kEpisode_s seconds is rebuilt (untimed), so the objects stay in view.
 //
@@ -34,8 +39,9 @@
 //                            reference the carried front's cost is read against.
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
 // ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
-// 25-tracer scene), ratio_free (twin / free-running bare step rate), solver_iter and
-// bare_solver_iter (MuJoCo's constraint-solver iterations per step, twin and mirrored bare).
+// 25-tracer scene), ratio_forced (twin / mirrored bare step under the twin's air as applied
+// forces), ratio_free (twin / free-running bare step rate), solver_iter, bare_solver_iter and
+// forced_solver_iter (MuJoCo's constraint-solver iterations per step).
 
 #include <benchmark/benchmark.h>
 
@@ -162,19 +168,21 @@ void run(benchmark::State& state, const SceneSpec& spec,
   Twin twin = make_twin(spec, timestep_s, cfd, response);
   const mjModel* m = twin.model();
   DataPtr bare = make_data(m);
+  DataPtr forced = make_data(m);
   // The air callback alone, on the twin's state: a second AirForces of the same objects.
   const TwinParameters params = twin_parameters(timestep_s, cfd);
   std::vector<SceneObject> objects;
   for (size_t i = 0; i < twin.object_count(); ++i) objects.push_back(twin.object(i));
   AirForces air(params.air, params.scene, objects, 7, timestep_s);
-  double twin_s = 0.0, bare_s = 0.0, free_s = 0.0, air_s = 0.0;
-  int64_t steps = 0, twin_iter = 0, bare_iter = 0;
+  double twin_s = 0.0, bare_s = 0.0, forced_s = 0.0, free_s = 0.0, air_s = 0.0;
+  int64_t steps = 0, twin_iter = 0, bare_iter = 0, forced_iter = 0;
   for (auto _ : state) {
     // Twin, step by step, each step mirrored by a bare step from the same state.
     for (int k = 0; k < kChunkSteps; ++k) {
       const NozzleOrientation target = program(twin.time());
       if (target.pan_rad != twin.commanded_orientation().pan_rad) twin.command_nozzle(target);
       copy_state(m, twin.data(), bare.get());
+      copy_state(m, twin.data(), forced.get());
       const auto t0 = Clock::now();
       twin.step();
       const auto t1 = Clock::now();
@@ -184,6 +192,15 @@ void run(benchmark::State& state, const SceneSpec& spec,
       bare_s += seconds(t1, t2);
       twin_iter += twin.data()->solver_iter;
       bare_iter += bare->solver_iter;
+      // Both steps left their passive forces of the same starting state in qfrc_passive: the
+      // difference is the twin's air (and holding force), given to the third step as applied.
+      for (int i = 0; i < m->nv; ++i) {
+        forced->qfrc_applied[i] = twin.data()->qfrc_passive[i] - bare->qfrc_passive[i];
+      }
+      const auto t5 = Clock::now();
+      mj_step(m, forced.get());
+      forced_s += seconds(t5, Clock::now());
+      forced_iter += forced->solver_iter;
       // The air alone on the state mj_step left (positions and kinematics are current).
       const NozzleOrientation e = twin.effective_orientation();
       std::optional<CfdOrientedField> cfd_air;
@@ -209,6 +226,7 @@ void run(benchmark::State& state, const SceneSpec& spec,
       twin = make_twin(spec, timestep_s, cfd, response);
       m = twin.model();
       bare = make_data(m);
+      forced = make_data(m);
       state.ResumeTiming();
     }
   }
@@ -217,12 +235,14 @@ void run(benchmark::State& state, const SceneSpec& spec,
   state.counters["bare_steps_per_s"] = n / bare_s;
   state.counters["rtf"] = n / twin_s * twin.timestep();
   state.counters["ratio"] = bare_s / twin_s;
+  state.counters["ratio_forced"] = forced_s / twin_s;
   state.counters["ratio_free"] = free_s / twin_s;
   state.counters["air_share"] = air_s / twin_s;
   // The constraint solver's iterations per step, twin and mirrored bare: the air's forces change
   // the contact problem MuJoCo solves, which costs beside the callback itself.
   state.counters["solver_iter"] = static_cast<double>(twin_iter) / n;
   state.counters["bare_solver_iter"] = static_cast<double>(bare_iter) / n;
+  state.counters["forced_solver_iter"] = static_cast<double>(forced_iter) / n;
 }
 
 void BM_TwinStep_tracers_25(benchmark::State& state) { run(state, tracers_25()); }
