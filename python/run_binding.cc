@@ -187,6 +187,9 @@ void bind_run(py::module_& m) {
           "When the task was seen done (s), or None.")
       .def_property_readonly("n_decisions",
                              [](const RunResult& r) { return r.result.loop.decisions.size(); })
+      .def_property_readonly(
+          "lost_every_object", [](const RunResult& r) { return r.result.loop.lost_every_object; },
+          "The run stopped early, failed, because the perception had lost every object.")
       .def("trajectory", &trajectory, py::arg("id"),
            "K x 3: t (s), x, y (m) of the object every camera frame.")
       .def(

@@ -22,6 +22,7 @@ def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
     cli = assert_same_run(result, out)
     assert cli["success"] and result.completion_time_s == cli["completion_time_s"]
     assert result.n_decisions == cli["decisions"]
+    assert result.lost_every_object is False and cli["lost_every_object"] is False
 
     def strip_ms(text):
         return [line.rsplit(",", 1)[0] for line in text.splitlines()]
