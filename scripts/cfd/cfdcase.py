@@ -60,6 +60,13 @@ MODEL_TEXT = {"kEpsilon": "standard k-epsilon",
               "kOmegaSST": "k-omega SST (OpenFOAM's kOmegaSST, Menter et al. 2003)",
               "realizableKE": "realizable k-epsilon (OpenFOAM's realizableKE, Shih et al. 1995)"}
 STUDY_TILTS = [22.5, 45.0, 0.0]   # the study's cases in run order, mesh 1, 20 mm inlet
+# realizable k-epsilon's lower bound on k (OpenFOAM's default is 1e-15): its epsilon sink,
+# eps^2 / (k + sqrt(nu eps)), does not follow k to zero, so in still ambient cells k decayed to the
+# default bound while epsilon stayed at 1e-6-1e-5 m^2/s^3; eps/k of ~5e10 then dominated the k
+# equation's residual normalisation, k's residual fell to 1e-9, below the solver's tolerance, and k
+# froze (0 solver iterations per step) while the residual control counted it converged. 1e-8 is five
+# orders below the ambient k
+RKE_KMIN = 1e-8
 
 
 def check_model(model):
@@ -470,7 +477,8 @@ def write_common(case_dir, model=DEFAULT_MODEL):
     write_file(os.path.join(case_dir, "constant/turbulenceProperties"), "dictionary",
                "turbulenceProperties",
                "simulationType RAS;\nRAS\n{\n    RASModel %s;\n    turbulence on;\n"
-               "    printCoeffs on;\n}\n" % check_model(model))
+               "    printCoeffs on;\n%s}\n" % (check_model(model),
+                                             "    kMin %g;\n" % RKE_KMIN if model == "realizableKE" else ""))
 
 
 def cmd_write(name, case_dir):
@@ -951,6 +959,8 @@ def cmd_convert(name, case_dir, out_dir):
         hdr["turbulence_model"] = model_of(case)
         hdr["reference_case"] = case["reference_case"]
         hdr["reference_data"] = "data/cfd/%s.json" % case["reference_case"]
+        if model_of(case) == "realizableKE":
+            hdr["k_min_m2_s2"] = RKE_KMIN
         if model_of(case) == "kOmegaSST":
             hdr["inlet"]["omega_1_s"] = inlet.get("omega_inlet")
             hdr["ambient"]["omega_1_s"] = omega_of(K_AMB, EPS_AMB)
