@@ -7,8 +7,8 @@
 // Nothing here is the model's own output: the air, the drag, the friction and the re-aim's
 // transients are the twin's, the model is what identification makes of them. Runs are
 // deterministic per seed (collection and run), so a failure is a regression. The many-seed
-// figures (line 8/10 and the rest) are in docs/twin.md, "What the formation's time does to the
-// paper's pipeline".
+// figures (line 9/10 and the rest, the aggregation 10/10) are in docs/twin.md, "Closed loop in the
+// physical twin".
 
 #include <gtest/gtest.h>
 
@@ -42,12 +42,9 @@ TwinParameters physical_twin() {
   return p;
 }
 
-TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLine) {
-  const AirFieldModel field =
-      read_air_field_model(AIRTWIN_SOURCE_DIR "/models/data/cfd_fitted_field_model.json");
-
-  // Appendix D in the twin (collection seed 202), eq. (8)'s terms identified as the paper found
-  // them, with identify's other defaults.
+// Appendix D in the twin (collection seed 202), eq. (8)'s terms identified as the paper found
+// them, with identify's other defaults.
+IdentifiedModel identified_tracer(const AirFieldModel& field) {
   CollectionOptions collection;
   collection.seed = 202;
   collection.twin = physical_twin();
@@ -55,7 +52,16 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
   const TrajectorySet data = run_collection(collection, field);
   IdentificationOptions identification;
   identification.sindy.terms = parse_sindy_terms("1,v,vair");
-  const IdentifiedModel model = identify_trajectories(data, "tracer", field, identification);
+  return identify_trajectories(data, "tracer", field, identification);
+}
+
+AirFieldModel fitted_field() {
+  return read_air_field_model(AIRTWIN_SOURCE_DIR "/models/data/cfd_fitted_field_model.json");
+}
+
+TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLine) {
+  const AirFieldModel field = fitted_field();
+  const IdentifiedModel model = identified_tracer(field);
   ASSERT_TRUE(model.is_eq8());
   const ObjectDynamics xi = model.eq8();
   std::printf("identified on the physical twin: dv/dt = %.3f v + %.3f vair %.3f\n", xi.xi1, xi.xi2,
@@ -92,6 +98,31 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
     EXPECT_LT(r.loop.completion_time_s.value_or(1e9), 2 * 38.0) << "seed " << seed;
     EXPECT_LT(r.path_error_m.mean, 5 * 0.0067) << "seed " << seed;
   }
+}
+
+// The 25-tracer aggregation as the scenario file ships it (the line search with mu0 25 cm,
+// Sigma0 60 cm^2; the paper's 41.8 cm leaves the outlying tracers in air below their start,
+// docs/twin.md), planning with the model identified above: every tracer in the zone, in a time
+// of the paper's kind (105 s). Seeds 1-10 all succeed in 58-90 s; seed 1 takes 72 s.
+TEST(PhysicalTwinClosedLoop, TheAggregationAsShippedCollectsEveryTracer) {
+  const AirFieldModel field = fitted_field();
+  const IdentifiedModel model = identified_tracer(field);
+  ASSERT_TRUE(model.is_eq8());
+  const Scenario aggregation = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/aggregation.yaml");
+  ScenarioRunOptions options;
+  options.seed = 1;
+  options.twin = physical_twin();
+  options.dynamics["tracer"] = model.eq8();
+  const ScenarioRunResult r = run_scenario(aggregation, field, options);
+  std::printf("aggregation, seed 1: %s in %.1f s, %d of %d in the zone (the paper: 105 s)\n",
+              r.success ? "success" : "FAILED",
+              r.loop.completion_time_s.value_or(r.loop.end_time_s), r.objects_in_zone, r.n_objects);
+  EXPECT_TRUE(r.success);
+  EXPECT_EQ(r.objects_in_zone, 25);
+  // Within the issue's 0.67-1.5x of the paper's time.
+  const double t = r.loop.completion_time_s.value_or(1e9);
+  EXPECT_GT(t, 0.67 * 105.0);
+  EXPECT_LT(t, 1.5 * 105.0);
 }
 
 }  // namespace
