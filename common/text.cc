@@ -18,4 +18,10 @@ std::string format_number(double x) {
   return buffer;
 }
 
+std::string format_short(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", x);
+  return buffer;
+}
+
 }  // namespace airtwin

@@ -1,5 +1,5 @@
 #pragma once
-// Two small text helpers the parsers and records share.
+// Small text helpers the parsers, records and messages share.
 
 #include <string>
 #include <string_view>
@@ -12,5 +12,8 @@ std::string trim_blanks(std::string_view s);
 /// `x` with nine significant digits ("%.9g"): short in records and messages, and read back
 /// within 5e-9 relative (half a unit of the ninth digit).
 std::string format_number(double x);
+
+/// `x` with six significant digits ("%g"): for messages and labels people read.
+std::string format_short(double x);
 
 }  // namespace airtwin

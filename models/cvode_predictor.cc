@@ -6,12 +6,12 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <optional>
 
 #include "common/errors.h"
+#include "common/text.h"
 
 namespace airtwin {
 namespace {
@@ -128,19 +128,13 @@ class CvodeSession {
   SUNNonlinearSolver nls_ = nullptr;
 };
 
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", x);
-  return buf;
-}
-
 }  // namespace
 
 CvodePredictor::CvodePredictor(const Options& options) : options_(options) {
   if (!(std::isfinite(options.rtol) && options.rtol > 0 && std::isfinite(options.atol) &&
         options.atol > 0)) {
     throw InputError("CVODE predictor: tolerances must be finite and > 0, got rtol " +
-                     num(options.rtol) + ", atol " + num(options.atol));
+                     format_number(options.rtol) + ", atol " + format_number(options.atol));
   }
   if (options.max_num_steps < 1) {
     throw InputError("CVODE predictor: max_num_steps must be >= 1, got " +
@@ -195,8 +189,8 @@ void CvodePredictor::advance(const Segment& seg, std::span<const ObjectDynamics>
         try {
           flag = cvode.step_to(t_out, &t);
         } catch (const IntegrationError& e) {
-          throw IntegrationError(std::string(e.what()) + " at t = " + num(t) + " s, object " +
-                                 std::to_string(j));
+          throw IntegrationError(std::string(e.what()) + " at t = " + format_number(t) +
+                                 " s, object " + std::to_string(j));
         }
         if (flag != CV_ROOT_RETURN) {
           t = t_out;

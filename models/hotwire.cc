@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <set>
 #include <string>
@@ -10,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/parallel_for.h"
+#include "common/text.h"
 #include "common/units.h"
 
 namespace airtwin {
@@ -24,14 +24,8 @@ constexpr double kSettleTimes = 5.0;
 // Per-point streams: index = (tilt in micro-degrees) << kPointBits | (point + 1); 0 is the gain.
 constexpr int kPointBits = 20;
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
-
 void require(bool ok, const char* field, const std::string& expected, double got) {
-  if (!ok) throw FieldError(field, "must be " + expected + ", got " + number(got));
+  if (!ok) throw FieldError(field, "must be " + expected + ", got " + format_short(got));
 }
 
 }  // namespace
@@ -76,9 +70,9 @@ double simulate_hotwire_mean_mps(const HotWireAir& air, const HotWireSpec& spec,
                                  RandomStream& rng) {
   spec.validate();
   if (!air.u_W.allFinite()) {
-    throw FieldError("hotwire.u_W", "must be a finite velocity, got (" + number(air.u_W.x()) +
-                                        ", " + number(air.u_W.y()) + ", " + number(air.u_W.z()) +
-                                        ")");
+    throw FieldError("hotwire.u_W", "must be a finite velocity, got (" + format_short(air.u_W.x()) +
+                                        ", " + format_short(air.u_W.y()) + ", " +
+                                        format_short(air.u_W.z()) + ")");
   }
   require(std::isfinite(air.k) && air.k >= 0, "hotwire.k", ">= 0 m^2/s^2", air.k);
   const double speed = air.u_W.norm();
@@ -141,7 +135,7 @@ void HotWireCampaign::validate() const {
     require(std::isfinite(t) && t >= 0 && t < deg_to_rad(90.0), "hotwire.tilts",
             "tilts in [0, 90) deg", rad_to_deg(t));
     if (!seen.insert(std::llround(rad_to_deg(t) * 1e6)).second) {
-      throw FieldError("hotwire.tilts", "lists tilt " + number(rad_to_deg(t)) + " deg twice");
+      throw FieldError("hotwire.tilts", "lists tilt " + format_short(rad_to_deg(t)) + " deg twice");
     }
   }
   require(std::isfinite(pan_rad) && std::abs(pan_rad) <= 2 * kPi, "hotwire.pan_rad",
@@ -154,8 +148,8 @@ void HotWireCampaign::validate() const {
   for (size_t i = 0; i < points_W.size(); ++i) {
     const Eigen::Vector2d& p = points_W[i];
     if (!(p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxCoordinateM)) {
-      throw FieldError("hotwire.points", "point " + std::to_string(i) + " (" + number(p.x()) +
-                                             ", " + number(p.y()) +
+      throw FieldError("hotwire.points", "point " + std::to_string(i) + " (" + format_short(p.x()) +
+                                             ", " + format_short(p.y()) +
                                              ") must be finite and within 100 m");
     }
   }

@@ -6,6 +6,7 @@
 
 #include "common/csv.h"
 #include "common/errors.h"
+#include "common/text.h"
 
 namespace airtwin {
 namespace {
@@ -14,12 +15,6 @@ std::string list_of(const std::set<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
   return out;
-}
-
-std::string number(double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
 }
 
 std::string seconds(double t_s) {
@@ -113,7 +108,7 @@ void TrackJoinOptions::validate(const std::set<std::string>& known_objects) cons
   }
   if (!(std::isfinite(max_speed_mps) && max_speed_mps > 0 && max_speed_mps <= 1000)) {
     throw FieldError("track_join.max_speed_mps",
-                     "expected a speed in (0, 1000] m/s, got " + number(max_speed_mps));
+                     "expected a speed in (0, 1000] m/s, got " + format_short(max_speed_mps));
   }
   if (max_missed_frames < 0 || max_missed_frames > 1000000) {
     throw FieldError(
@@ -126,7 +121,7 @@ void TrackJoinOptions::validate(const std::set<std::string>& known_objects) cons
   }
   if (!(std::isfinite(clock_offset_s) && std::abs(clock_offset_s) <= 86400.0)) {
     throw FieldError("track_join.clock_offset_s",
-                     "expected a time in [-86400, 86400] s, got " + number(clock_offset_s));
+                     "expected a time in [-86400, 86400] s, got " + format_short(clock_offset_s));
   }
 }
 
@@ -263,7 +258,8 @@ TrackJoinResult join_tracks(const DetectionTable& detections, const NozzleLog& n
     auto add = [&](size_t n, const std::string& what) {
       if (n > 0) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
     };
-    add(report.jumps.size(), "with a step faster than " + number(options.max_speed_mps) + " m/s");
+    add(report.jumps.size(),
+        "with a step faster than " + format_short(options.max_speed_mps) + " m/s");
     add(report.short_tracks.size(),
         "shorter than " + std::to_string(options.min_frames) + " frames");
     add(report.short_pieces,

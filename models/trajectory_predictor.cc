@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "common/errors.h"
+#include "common/text.h"
 #include "common/units.h"
 
 namespace airtwin {
@@ -13,12 +13,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxSamplesPerObject = 1e6;
-
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", x);
-  return buf;
-}
 
 void validate_objects(std::span<const ObjectDynamics> dynamics,
                       std::span<const ObjectState> start) {
@@ -30,14 +24,14 @@ void validate_objects(std::span<const ObjectDynamics> dynamics,
     const ObjectState& s = start[j];
     if (!(std::isfinite(s.p_W.x()) && std::isfinite(s.p_W.y()))) {
       throw InputError("trajectory prediction: object " + std::to_string(j) +
-                       ": position must be finite, got (" + num(s.p_W.x()) + ", " + num(s.p_W.y()) +
-                       ") m");
+                       ": position must be finite, got (" + format_number(s.p_W.x()) + ", " +
+                       format_number(s.p_W.y()) + ") m");
     }
     if (!(std::isfinite(s.v) && s.v >= 0)) {
       throw InputError("trajectory prediction: object " + std::to_string(j) +
                        ": speed must be finite and >= 0 (eq. 9 moves objects only away from s), "
                        "got " +
-                       num(s.v) + " m/s");
+                       format_number(s.v) + " m/s");
     }
     const ObjectDynamics& xi = dynamics[j];
     if (!(std::isfinite(xi.xi1) && std::isfinite(xi.xi2) && std::isfinite(xi.xi3))) {
@@ -50,15 +44,15 @@ void validate_objects(std::span<const ObjectDynamics> dynamics,
 void validate_options(const PredictionOptions& o) {
   if (!(std::isfinite(o.horizon_s) && o.horizon_s > 0)) {
     throw InputError("trajectory prediction: horizon must be finite and > 0 s, got " +
-                     num(o.horizon_s));
+                     format_number(o.horizon_s));
   }
   if (!(std::isfinite(o.sample_rate_hz) && o.sample_rate_hz >= 0)) {
     throw InputError("trajectory prediction: sample rate must be finite and >= 0 Hz, got " +
-                     num(o.sample_rate_hz));
+                     format_number(o.sample_rate_hz));
   }
   if (o.horizon_s * o.sample_rate_hz > kMaxSamplesPerObject) {
-    throw InputError("trajectory prediction: horizon " + num(o.horizon_s) + " s at " +
-                     num(o.sample_rate_hz) + " Hz exceeds 1e6 samples per object");
+    throw InputError("trajectory prediction: horizon " + format_number(o.horizon_s) + " s at " +
+                     format_number(o.sample_rate_hz) + " Hz exceeds 1e6 samples per object");
   }
 }
 
@@ -75,17 +69,18 @@ void TrajectoryPredictor::predict(const AirFieldModel& model, const OrientationS
     const double t = schedule[i].t_start_s;
     if (!std::isfinite(t)) {
       throw InputError("orientation schedule: entry " + std::to_string(i) +
-                       ": t_start must be finite, got " + num(t));
+                       ": t_start must be finite, got " + format_number(t));
     }
     if (i > 0 && !(t > schedule[i - 1].t_start_s)) {
-      throw InputError("orientation schedule: entry " + std::to_string(i) + ": t_start " + num(t) +
-                       " s must be greater than the previous " + num(schedule[i - 1].t_start_s) +
-                       " s");
+      throw InputError("orientation schedule: entry " + std::to_string(i) + ": t_start " +
+                       format_number(t) + " s must be greater than the previous " +
+                       format_number(schedule[i - 1].t_start_s) + " s");
     }
   }
   if (!(schedule.front().t_start_s <= 0)) {
     throw InputError("orientation schedule: the first entry starts at " +
-                     num(schedule.front().t_start_s) + " s, so no orientation is defined at t = 0");
+                     format_number(schedule.front().t_start_s) +
+                     " s, so no orientation is defined at t = 0");
   }
   // The entries that act within [0, horizon): the last one starting at or before 0, then the
   // ones starting inside the horizon. model.rays_at() validates each orientation; the rays are

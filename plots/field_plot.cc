@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "common/text.h"
 #include "plots/canvas.h"
 
 namespace airtwin::plots {
@@ -44,12 +45,6 @@ const TextStyle kLegendStyle{0.5, 1, kBlack, 0, kWhite};
 const TextStyle kTitleStyle{0.8, 2, kBlack, 0, kWhite};
 const TextStyle kSubtitleStyle{0.5, 1, kDarkGrey, 0, kWhite};
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
-
 // A position in OpenCV's fixed point with kShift fractional bits.
 cv::Point fixed(cv::Point2d p) {
   constexpr double kScale = 1 << kShift;
@@ -72,18 +67,18 @@ void check_axis(const Eigen::VectorXd& q, const std::string& name, const std::st
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!std::isfinite(q[i])) {
-      throw InputError(where + ": grid." + name + "[" + std::to_string(i) + "] is " + number(q[i]) +
-                       "; coordinates must be finite");
+      throw InputError(where + ": grid." + name + "[" + std::to_string(i) + "] is " +
+                       format_short(q[i]) + "; coordinates must be finite");
     }
     if (i > 0 && !(q[i] > q[i - 1])) {
       throw InputError(where + ": grid." + name + " must be strictly ascending, but " + name + "[" +
-                       std::to_string(i) + "] = " + number(q[i]) + " follows " + name + "[" +
-                       std::to_string(i - 1) + "] = " + number(q[i - 1]));
+                       std::to_string(i) + "] = " + format_short(q[i]) + " follows " + name + "[" +
+                       std::to_string(i - 1) + "] = " + format_short(q[i - 1]));
     }
   }
   const double span = q[n - 1] - q[0];
   if (!std::isfinite(span) || !std::isfinite(kMapBox_px.width / span)) {
-    throw InputError(where + ": grid." + name + " spans " + number(span) +
+    throw InputError(where + ": grid." + name + " spans " + format_short(span) +
                      " m, which cannot be drawn");
   }
 }
@@ -102,8 +97,8 @@ void check_values(const Eigen::MatrixXd& m, const std::string& name, const Vecto
     for (Eigen::Index j = 0; j < ny; ++j) {
       if (!std::isfinite(m(j, i))) {
         throw InputError(where + ": grid." + name + "(" + std::to_string(j) + ", " +
-                         std::to_string(i) + ") at (x, y) = (" + number(grid.x[i]) + ", " +
-                         number(grid.y[j]) + ") m is " + number(m(j, i)) +
+                         std::to_string(i) + ") at (x, y) = (" + format_short(grid.x[i]) + ", " +
+                         format_short(grid.y[j]) + ") m is " + format_short(m(j, i)) +
                          "; field values must be finite");
       }
     }
@@ -112,16 +107,16 @@ void check_values(const Eigen::MatrixXd& m, const std::string& name, const Vecto
 
 void check_marks(const FieldMarks& marks, const std::string& where) {
   if (!marks.stagnation_W.allFinite()) {
-    throw InputError(where + ": the stagnation point s = (" + number(marks.stagnation_W.x()) +
-                     ", " + number(marks.stagnation_W.y()) + ") m must be finite");
+    throw InputError(where + ": the stagnation point s = (" + format_short(marks.stagnation_W.x()) +
+                     ", " + format_short(marks.stagnation_W.y()) + ") m must be finite");
   }
   if (!marks.projection_W.allFinite()) {
-    throw InputError(where + ": the projection point c = (" + number(marks.projection_W.x()) +
-                     ", " + number(marks.projection_W.y()) + ") m must be finite");
+    throw InputError(where + ": the projection point c = (" + format_short(marks.projection_W.x()) +
+                     ", " + format_short(marks.projection_W.y()) + ") m must be finite");
   }
   if (!(marks.speed_max_mps >= 0) || !std::isfinite(marks.speed_max_mps)) {
     throw InputError(where + ": speed_max_mps must be a finite speed >= 0 (0: automatic), got " +
-                     number(marks.speed_max_mps));
+                     format_short(marks.speed_max_mps));
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "common/errors.h"
 #include "common/random_stream.h"
+#include "common/text.h"
 #include "common/units.h"
 #include "renders/camera_model.h"
 #include "renders/frame_renderer.h"
@@ -51,12 +52,6 @@ constexpr int kMaxAttempts = 500;
 constexpr int kMultisamples = 4;
 
 constexpr const char* kTargetFile = "target.yaml";
-
-std::string num(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", x);
-  return buffer;
-}
 
 std::string frame_name(int view) {
   char buffer[32];
@@ -100,9 +95,10 @@ std::string target_body() {
   // The white board: from the floor side up to just below the ink.
   s << "    <geom name=\"calib_board\" class=\"visual\" type=\"box\" material=\"calib_white\" "
        "pos=\""
-    << num(0.5 * (kMinX + kMaxX)) << ' ' << num(0.5 * (kMinY + kMaxY)) << ' '
-    << num(-0.5 * (kThickness + kInkHeight)) << "\" size=\"" << num(0.5 * (kMaxX - kMinX)) << ' '
-    << num(0.5 * (kMaxY - kMinY)) << ' ' << num(0.5 * (kThickness - kInkHeight)) << "\"/>\n";
+    << format_number(0.5 * (kMinX + kMaxX)) << ' ' << format_number(0.5 * (kMinY + kMaxY)) << ' '
+    << format_number(-0.5 * (kThickness + kInkHeight)) << "\" size=\""
+    << format_number(0.5 * (kMaxX - kMinX)) << ' ' << format_number(0.5 * (kMaxY - kMinY)) << ' '
+    << format_number(0.5 * (kThickness - kInkHeight)) << "\"/>\n";
   // The black squares: square (a, b), a in [-1, cols), b in [-1, rows), spans [a, a + 1] x
   // [b, b + 1] squares from the origin corner; black when a + b is even (so the corner squares
   // at the origin's end are black, those at the far end white); their tops, the printed surface,
@@ -111,9 +107,9 @@ std::string target_body() {
     for (int b = -1; b < kRows; ++b) {
       if ((a + b) % 2 != 0) continue;
       s << "    <geom class=\"visual\" type=\"box\" material=\"calib_black\" pos=\""
-        << num((a + 0.5) * kSquare) << ' ' << num((b + 0.5) * kSquare) << ' ' << num(-kInkHeight)
-        << "\" size=\"" << num(0.5 * kSquare) << ' ' << num(0.5 * kSquare) << ' ' << num(kInkHeight)
-        << "\"/>\n";
+        << format_number((a + 0.5) * kSquare) << ' ' << format_number((b + 0.5) * kSquare) << ' '
+        << format_number(-kInkHeight) << "\" size=\"" << format_number(0.5 * kSquare) << ' '
+        << format_number(0.5 * kSquare) << ' ' << format_number(kInkHeight) << "\"/>\n";
     }
   }
   s << "  </body>\n";
@@ -215,13 +211,13 @@ BoardPose draw_pose(int view, int views, const ViewPlan& plan, double axis_sprea
     if (board_fits(pose, camera, params)) return pose;
   }
   std::string message = "calibration target: cannot place the board (";
-  message += num(kMaxX - kMinX);
+  message += format_number(kMaxX - kMinX);
   message += " m x ";
-  message += num(kMaxY - kMinY);
+  message += format_number(kMaxY - kMinY);
   message += " m) whole in the camera's view, clear of the nozzle rig, for view ";
   message += std::to_string(view);
   message += " (camera_half_view_m = ";
-  message += num(params.camera_half_view_m);
+  message += format_number(params.camera_half_view_m);
   message += ")";
   throw InputError(message);
 }
@@ -233,11 +229,11 @@ void validate(const CalibrationDatasetOptions& o) {
   }
   if (!(std::isfinite(o.noise_sigma_grey) && o.noise_sigma_grey >= 0)) {
     throw InputError("calibration dataset: noise_sigma_grey must be finite and >= 0, got " +
-                     num(o.noise_sigma_grey));
+                     format_number(o.noise_sigma_grey));
   }
   if (!(std::isfinite(o.blur_sigma_px) && o.blur_sigma_px >= 0)) {
     throw InputError("calibration dataset: blur_sigma_px must be finite and >= 0, got " +
-                     num(o.blur_sigma_px));
+                     format_number(o.blur_sigma_px));
   }
 }
 

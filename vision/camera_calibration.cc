@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/errors.h"
+#include "common/text.h"
 #include "common/units.h"
 #include "vision/frame_source.h"
 #include "vision/yaml_fields.h"
@@ -34,12 +34,6 @@ constexpr size_t kModelViews = 16;
 // the reference board's plane lies on the floor too (propped boards lean 15 deg or more).
 constexpr double kFloorAngle = deg_to_rad(2.0);
 constexpr double kFloorOffset = 0.01;
-
-std::string num(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", x);
-  return buffer;
-}
 
 // Mean grey level of a small patch around `centre` (px), clipped to the image.
 double patch_mean(const cv::Mat& grey, const cv::Point2f& centre, int half) {
@@ -113,7 +107,8 @@ Detection detect_board(const cv::Mat& grey, const CalibrationTarget& t) {
   const double spacing = smallest_spacing(d.corners, pattern.width, pattern.height);
   if (spacing < 8.0) {
     d.corners.clear();
-    d.failure = "board too small in the image (squares of " + num(spacing) + " px, need >= 8)";
+    d.failure =
+        "board too small in the image (squares of " + format_short(spacing) + " px, need >= 8)";
     return d;
   }
   const int half = std::clamp(static_cast<int>(0.4 * spacing), 3, 15);
@@ -529,7 +524,7 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
                                          const CameraCalibrationOptions& options) {
   if (!(std::isfinite(options.max_view_rms_px) && options.max_view_rms_px > 0)) {
     throw InputError("camera calibration: max_view_rms_px must be > 0, got " +
-                     num(options.max_view_rms_px));
+                     format_short(options.max_view_rms_px));
   }
   if (static_cast<int>(options.max_lens_model) < 0 ||
       options.max_lens_model > LensModel::kRadial3Tangential) {
@@ -695,8 +690,8 @@ CameraCalibrationResult calibrate_camera(const std::string& dir,
   size_t kept = 0;
   for (size_t k = 0; k < candidate.size(); ++k) {
     if (view_rms[k] > limit && k != ref) {
-      result.views[candidate[k]].reason =
-          "reprojection RMS " + num(view_rms[k]) + " px, above the limit " + num(limit) + " px";
+      result.views[candidate[k]].reason = "reprojection RMS " + format_short(view_rms[k]) +
+                                          " px, above the limit " + format_short(limit) + " px";
       continue;
     }
     if (k == ref) ref = kept;
