@@ -90,18 +90,6 @@ def plane_speed(c, x_at, height):
     return v
 
 
-def umax_over_height(c, x_at):
-    """The wall-jet profiles' largest in-plane speed over height (1 mm-15 cm) on the jet's plane at x:
-    direction 0 (downstream of c) or 180 (upstream of c), interpolated in r; NaN where r < 5 cm."""
-    wj = c["csv"]["walljet"]
-    xc = c["hdr"]["projection_point_c_m"][0]
-    r = x_at - xc
-    d = 0.0 if r >= 0 else 180.0
-    sel = wj["direction_deg"] == d
-    rs, um = wj["r_from_c_m"][sel], wj["umax_m_s"][sel]
-    return float(np.interp(abs(r), rs, um, left=np.nan, right=np.nan))
-
-
 def sigma_stats(c, s_x, peak):
     """sigma = sqrt(2k/3) within NEAR_S of s and at FAR from s, per height: the largest and the median
     as a share of the case's peak floor speed; in the FAR ring also the median local intensity
@@ -140,8 +128,6 @@ def summarise(c):
     for h in (0.015, 0.004):
         prof["%g" % (h * 1000)] = {"up": [plane_speed(c, s_x - d, h) for d in DISTS],
                                    "down": [plane_speed(c, s_x + d, h) for d in DISTS]}
-    prof["umax"] = {"up": [umax_over_height(c, s_x - d) for d in DISTS],
-                    "down": [umax_over_height(c, s_x + d) for d in DISTS]}
     res["plane"] = prof
     res["sigma"] = sigma_stats(c, s_x, pk["speed_m_s"])
     cf = analyse.centreline_fit(hdr, csv)
@@ -210,7 +196,7 @@ def markdown(res):
              "on its axis (median over 0.5-0.7 of the slant distance).")
     L.append("")
     L.append("| tilt (deg) | model | MAPE at 1.5 cm (95th pct.) | MAPE at 4 mm | s (m) | s - s(k-eps) (mm) | "
-             "c - s (m) | peak at 1.5 cm (m/s) | at x (m) | peak from s (m) | B | U_c 10 cm before the floor (m/s) | "
+             "c - s (m) | peak at 1.5 cm (m/s) | at (x, y) (m) | peak from s (m) | B | U_c 10 cm before the floor (m/s) | "
              "sigma / U_c on the axis |")
     L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for t in tilts:
@@ -223,48 +209,54 @@ def markdown(res):
             mp = T["mape"].get(m)
             mtxt = "%.1f %% (%.1f %%)" % (mp["15"]["mape_pct"], mp["15"]["p95_pct"]) if mp else "reference"
             m4 = "%.1f %%" % mp["4"]["mape_pct"] if mp else "reference"
-            ds = "%+.0f" % ((r["s_x_m"] - ref["s_x_m"]) * 1000) if mp else "-"
-            L.append("| %g | %s | %s | %s | %.3f | %s | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
-                t, SHORT[m], mtxt, m4, r["s_x_m"], ds, r["c_x_m"] - r["s_x_m"], r["peak"]["speed_m_s"],
-                r["peak"]["x_m"], abs(r["peak"]["x_m"] - r["s_x_m"]), r["centreline_B"],
+            ds = "%+.0f" % (round((r["s_x_m"] - ref["s_x_m"]) * 1000) + 0.0) if mp else "-"
+            L.append("| %g | %s | %s | %s | %.3f | %s | %.3f | %.2f | (%.2f, %.2f) | %.2f | %.2f | %.2f | %.2f |" % (
+                t, SHORT[m], mtxt, m4, round(r["s_x_m"], 3) + 0.0, ds, round(r["c_x_m"] - r["s_x_m"], 3) + 0.0,
+                r["peak"]["speed_m_s"],
+                r["peak"]["x_m"], r["peak"]["y_m"], math.hypot(r["peak"]["x_m"] - r["s_x_m"], r["peak"]["y_m"]),
+                r["centreline_B"],
                 r["centreline_u_10cm_m_s"], r["centreline_sigma_over_uc"]))
     L.append("")
     L.append("#### Speed along the jet's plane, upstream and downstream of s")
     L.append("")
     L.append("In-plane speed (m/s) on the symmetry plane at the given distance from the case's own s, upstream "
              "(towards the nozzle's foot, -x) and downstream (+x); at 1.5 cm and at 4 mm (the lowest sampled "
-             "height; '-' beyond the 1.5 m floor grid), and the largest over the wall-jet profile's height (1 mm-15 cm; "
-             "'-' within 5 cm of c, where no profile starts). 'up/down' is the upstream speed over the downstream "
-             "one at the same distance, at 1.5 cm.")
+             "height; '-' beyond the 1.5 m floor grid). 'up/down' is the upstream speed over the downstream "
+             "one at the same distance, at 1.5 cm; 'up/U_c' the upstream speed at 1.5 cm over the free jet's "
+             "centreline speed 10 cm before the floor (the floor air per unit of arriving jet).")
     L.append("")
     hd = " | ".join("%d cm" % round(d * 100) for d in DISTS)
-    L.append("| tilt (deg) | model | height | upstream: %s | downstream: %s | up/down at 20, 30, 40 cm |" % (hd, hd))
-    L.append("|---|---|---|" + "---|" * (2 * len(DISTS)) + "---|")
+    L.append("| tilt (deg) | model | height | upstream: %s | downstream: %s | up/down at 20, 30, 40 cm | "
+             "up/U_c at 20, 30, 40 cm |" % (hd, hd))
+    L.append("|---|---|---|" + "---|" * (2 * len(DISTS)) + "---|---|")
     for t in tilts:
         T = res["tilts"][str(t)]
         for m in MODELS:
             r = T["models"].get(m)
             if r is None:
                 continue
-            for key, lab in (("15", "1.5 cm"), ("4", "4 mm"), ("umax", "max over 1 mm-15 cm")):
+            for key, lab in (("15", "1.5 cm"), ("4", "4 mm")):
                 p = r["plane"][key]
-                ratio = "-"
+                ratio, per_uc = "-", "-"
                 if key == "15":
                     ratio = ", ".join(f2(p["up"][i] / p["down"][i]) for i in (1, 2, 3))
-                L.append("| %g | %s | %s | %s | %s | %s |" % (
+                    per_uc = ", ".join(f2(p["up"][i] / r["centreline_u_10cm_m_s"]) for i in (1, 2, 3))
+                L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
                     t, SHORT[m], lab, " | ".join(f2(v) for v in p["up"]),
-                    " | ".join(f2(v) for v in p["down"]), ratio))
+                    " | ".join(f2(v) for v in p["down"]), ratio, per_uc))
     L.append("")
     L.append("#### Turbulence: sigma = sqrt(2k/3)")
     L.append("")
     L.append("As a share of the case's peak floor speed: the largest within %d cm of s, and the median at "
              "%.1f-%.1f m from s; and there the median local intensity sigma / |u| (where |u| >= 0.3 m/s), "
-             "what a hot-wire reads as turbulence intensity." % (NEAR_S * 100, FAR[0], FAR[1]))
+             "what a hot-wire reads as turbulence intensity. 'over U_c': the largest sigma near s over the free "
+             "jet's centreline speed 10 cm before the floor (the free jet itself carries 0.21-0.28 U_c on its axis, "
+             "table above)." % (NEAR_S * 100, FAR[0], FAR[1]))
     L.append("")
     L.append("| tilt (deg) | model | near s, largest: 4 / 7.5 / 15 mm | largest sigma near s (m/s), 4 / 15 mm | "
-             "%.1f-%.1f m, median: 4 / 7.5 / 15 mm | %.1f-%.1f m, sigma / abs(u), median at 15 mm |"
-             % (FAR + FAR))
-    L.append("|---|---|---|---|---|---|")
+             "the same over U_c, 4 / 15 mm | %.1f-%.1f m, median: 4 / 7.5 / 15 mm | "
+             "%.1f-%.1f m, sigma / abs(u), median at 15 mm |" % (FAR + FAR))
+    L.append("|---|---|---|---|---|---|---|")
     for t in tilts:
         T = res["tilts"][str(t)]
         for m in MODELS:
@@ -272,10 +264,11 @@ def markdown(res):
             if r is None:
                 continue
             sg = r["sigma"]
-            L.append("| %g | %s | %s | %s | %s | %s |" % (
+            L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
                 t, SHORT[m],
                 " / ".join("%.0f %%" % (100 * sg[h]["near_max_share"]) for h in ("4", "7.5", "15")),
                 " / ".join("%.2f" % sg[h]["near_max_m_s"] for h in ("4", "15")),
+                " / ".join("%.2f" % (sg[h]["near_max_m_s"] / r["centreline_u_10cm_m_s"]) for h in ("4", "15")),
                 " / ".join("%.0f %%" % (100 * sg[h]["far_median_share"]) for h in ("4", "7.5", "15")),
                 f2(100 * sg["15"]["far_local_intensity_median"] if sg["15"]["far_local_intensity_median"]
                    is not None else None, "%.0f %%")))
@@ -345,7 +338,7 @@ def figures(res, cases, img):
         a1.legend(fontsize=7, ncol=2)
         a2.set_ylabel("sigma = sqrt(2k/3) (m/s)")
         a2.set_xlabel("x (m), jet's plane; the jet points to +x")
-        a2.legend(fontsize=7, ncol=2)
+        a2.legend(fontsize=7, ncol=2, loc="upper left")
         fig.tight_layout()
         fn = os.path.join(img, "cfd_turbulence_tilt%04.1f.png" % t)
         fig.savefig(fn, dpi=110)
