@@ -12,7 +12,6 @@ namespace airtwin {
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr int kConstant = 0, kV = 1, kVair = 2;
 
 json coefficient_array(const IdentifiedModel::Coefficients& c) {
   json a = json::array();
@@ -36,7 +35,7 @@ std::string tilt_key(double tilt_deg) {
 
 bool IdentifiedModel::is_eq8() const {
   for (int j = 0; j < kSindyTerms; ++j)
-    if (j != kConstant && j != kV && j != kVair && coefficients[j] != 0.0) return false;
+    if (j != kTermConstant && j != kTermV && j != kTermVair && coefficients[j] != 0.0) return false;
   return true;
 }
 
@@ -51,7 +50,7 @@ std::string IdentifiedModel::eq8_note() const {
 
 ObjectDynamics IdentifiedModel::eq8() const {
   if (!is_eq8()) throw InputError(eq8_note());
-  return {coefficients[kV], coefficients[kVair], coefficients[kConstant]};
+  return {coefficients[kTermV], coefficients[kTermVair], coefficients[kTermConstant]};
 }
 
 std::string identified_model_json(const IdentifiedModel& m) {
@@ -68,9 +67,9 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["n_samples"] = m.n_samples;
   j["n_dropped"] = m.n_dropped;
   if (m.is_eq8()) {
-    j["eq8"] = {{"xi1", m.coefficients[kV]},
-                {"xi2", m.coefficients[kVair]},
-                {"xi3", m.coefficients[kConstant]}};
+    j["eq8"] = {{"xi1", m.coefficients[kTermV]},
+                {"xi2", m.coefficients[kTermVair]},
+                {"xi3", m.coefficients[kTermConstant]}};
   } else {
     j["eq8"] = nullptr;
   }

@@ -19,7 +19,6 @@ const std::array<const char*, kSindyTerms> kTermNames = {
 
 namespace {
 
-constexpr int kV = 1;  // index of the term v
 using Coefficients = Eigen::Matrix<double, kSindyTerms, 1>;
 
 Eigen::MatrixXd library(const Eigen::VectorXd& v, const Eigen::VectorXd& va) {
@@ -476,7 +475,7 @@ std::array<bool, kSindyTerms> parse_sindy_terms(const std::string& list) {
     used = true;
     begin = end + 1;
   }
-  if (!mask[kV]) {
+  if (!mask[kTermV]) {
     throw FieldError(
         "sindy.terms",
         "must include v: it carries the persistence v_{k+1} ~ v_k of the discrete-time "
@@ -678,9 +677,9 @@ SindyResult identify_sindy(const SpeedPairs& d, const SindyOptions& o) {
   // Continuous time: forward-difference reading as the start, then exact one-step flow matching.
   std::vector<int> support;
   for (int j = 0; j < kSindyTerms; ++j)
-    if (res.discrete[j] != 0.0 || j == kV) support.push_back(j);
+    if (res.discrete[j] != 0.0 || j == kTermV) support.push_back(j);
   Coefficients start = res.discrete;
-  start[kV] -= 1.0;
+  start[kTermV] -= 1.0;
   start /= d.dt_s;
   const Eigen::VectorXd sqrt_w = res.weights.cwiseSqrt();
   FlowFunctor functor(d, sqrt_w, support, o.solver);

@@ -27,6 +27,8 @@ namespace airtwin {
 
 constexpr int kSindyTerms = 10;
 extern const std::array<const char*, kSindyTerms> kTermNames;  // "1", "v", "vair", "v^2", ...
+/// Where eq. (8)'s three terms sit in kTermNames: dv/dt = xi3 + xi1 v + xi2 vair.
+inline constexpr int kTermConstant = 0, kTermV = 1, kTermVair = 2;
 
 /// The library row Theta(v, va).
 Eigen::Matrix<double, 1, kSindyTerms> sindy_library_row(double v, double va);
