@@ -163,6 +163,16 @@ def f2(v, fmt="%.2f"):
     return "-" if v is None or not np.isfinite(v) else fmt % v
 
 
+def rows(res, tilts):
+    """(tilt, its results, model, the model's results) for every case done, in table order."""
+    for t in tilts:
+        T = res["tilts"][str(t)]
+        for m in MODELS:
+            r = T["models"].get(m)
+            if r is not None:
+                yield t, T, m, r
+
+
 def markdown(res):
     L = []
     tilts = [t for t in TILTS if str(t) in res["tilts"]]
@@ -175,17 +185,13 @@ def markdown(res):
     L.append("| case | model | cells | ranks | meshing (s) | solving (s) | iterations | s / iteration | "
              "converged (residuals < 1e-4) | final residuals |")
     L.append("|---|---|---|---|---|---|---|---|---|---|")
-    for t in tilts:
-        for m in MODELS:
-            r = res["tilts"][str(t)]["models"].get(m)
-            if r is None:
-                continue
-            wt = r["wall_time_s"]
-            per = wt["solve"] / r["iterations"] if wt.get("solve") and r["iterations"] else None
-            fr = ", ".join("%s %.1e" % (k, v) for k, v in sorted(r["final_residuals"].items()))
-            L.append("| `%s` | %s | %d | %s | %s | %s | %d | %s | %s | %s |" % (
-                r["case"], SHORT[m], r["cells"], r["mpi_ranks"] or "-", wt.get("mesh") or "-",
-                wt.get("solve") or "-", r["iterations"], f2(per), "yes" if r["converged"] else "**no**", fr))
+    for t, _, m, r in rows(res, tilts):
+        wt = r["wall_time_s"]
+        per = wt["solve"] / r["iterations"] if wt.get("solve") and r["iterations"] else None
+        fr = ", ".join("%s %.1e" % (k, v) for k, v in sorted(r["final_residuals"].items()))
+        L.append("| `%s` | %s | %d | %s | %s | %s | %d | %s | %s | %s |" % (
+            r["case"], SHORT[m], r["cells"], r["mpi_ranks"] or "-", wt.get("mesh") or "-",
+            wt.get("solve") or "-", r["iterations"], f2(per), "yes" if r["converged"] else "**no**", fr))
     L.append("")
     L.append("#### Floor field against k-epsilon")
     L.append("")
@@ -199,23 +205,18 @@ def markdown(res):
              "c - s (m) | peak at 1.5 cm (m/s) | at (x, y) (m) | peak from s (m) | B | U_c 10 cm before the floor (m/s) | "
              "sigma / U_c on the axis |")
     L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for t in tilts:
-        T = res["tilts"][str(t)]
+    for t, T, m, r in rows(res, tilts):
         ref = T["models"]["kEpsilon"]
-        for m in MODELS:
-            r = T["models"].get(m)
-            if r is None:
-                continue
-            mp = T["mape"].get(m)
-            mtxt = "%.1f %% (%.1f %%)" % (mp["15"]["mape_pct"], mp["15"]["p95_pct"]) if mp else "reference"
-            m4 = "%.1f %%" % mp["4"]["mape_pct"] if mp else "reference"
-            ds = "%+.0f" % (round((r["s_x_m"] - ref["s_x_m"]) * 1000) + 0.0) if mp else "-"
-            L.append("| %g | %s | %s | %s | %.3f | %s | %.3f | %.2f | (%.2f, %.2f) | %.2f | %.2f | %.2f | %.2f |" % (
-                t, SHORT[m], mtxt, m4, round(r["s_x_m"], 3) + 0.0, ds, round(r["c_x_m"] - r["s_x_m"], 3) + 0.0,
-                r["peak"]["speed_m_s"],
-                r["peak"]["x_m"], r["peak"]["y_m"], math.hypot(r["peak"]["x_m"] - r["s_x_m"], r["peak"]["y_m"]),
-                r["centreline_B"],
-                r["centreline_u_10cm_m_s"], r["centreline_sigma_over_uc"]))
+        mp = T["mape"].get(m)
+        mtxt = "%.1f %% (%.1f %%)" % (mp["15"]["mape_pct"], mp["15"]["p95_pct"]) if mp else "reference"
+        m4 = "%.1f %%" % mp["4"]["mape_pct"] if mp else "reference"
+        ds = "%+.0f" % (round((r["s_x_m"] - ref["s_x_m"]) * 1000) + 0.0) if mp else "-"
+        L.append("| %g | %s | %s | %s | %.3f | %s | %.3f | %.2f | (%.2f, %.2f) | %.2f | %.2f | %.2f | %.2f |" % (
+            t, SHORT[m], mtxt, m4, round(r["s_x_m"], 3) + 0.0, ds, round(r["c_x_m"] - r["s_x_m"], 3) + 0.0,
+            r["peak"]["speed_m_s"],
+            r["peak"]["x_m"], r["peak"]["y_m"], math.hypot(r["peak"]["x_m"] - r["s_x_m"], r["peak"]["y_m"]),
+            r["centreline_B"],
+            r["centreline_u_10cm_m_s"], r["centreline_sigma_over_uc"]))
     L.append("")
     L.append("#### Speed along the jet's plane, upstream and downstream of s")
     L.append("")
@@ -229,21 +230,16 @@ def markdown(res):
     L.append("| tilt (deg) | model | height | upstream: %s | downstream: %s | up/down at 20, 30, 40 cm | "
              "up/U_c at 20, 30, 40 cm |" % (hd, hd))
     L.append("|---|---|---|" + "---|" * (2 * len(DISTS)) + "---|---|")
-    for t in tilts:
-        T = res["tilts"][str(t)]
-        for m in MODELS:
-            r = T["models"].get(m)
-            if r is None:
-                continue
-            for key, lab in (("15", "1.5 cm"), ("4", "4 mm")):
-                p = r["plane"][key]
-                ratio, per_uc = "-", "-"
-                if key == "15":
-                    ratio = ", ".join(f2(p["up"][i] / p["down"][i]) for i in (1, 2, 3))
-                    per_uc = ", ".join(f2(p["up"][i] / r["centreline_u_10cm_m_s"]) for i in (1, 2, 3))
-                L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
-                    t, SHORT[m], lab, " | ".join(f2(v) for v in p["up"]),
-                    " | ".join(f2(v) for v in p["down"]), ratio, per_uc))
+    for t, T, m, r in rows(res, tilts):
+        for key, lab in (("15", "1.5 cm"), ("4", "4 mm")):
+            p = r["plane"][key]
+            ratio, per_uc = "-", "-"
+            if key == "15":
+                ratio = ", ".join(f2(p["up"][i] / p["down"][i]) for i in (1, 2, 3))
+                per_uc = ", ".join(f2(p["up"][i] / r["centreline_u_10cm_m_s"]) for i in (1, 2, 3))
+            L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
+                t, SHORT[m], lab, " | ".join(f2(v) for v in p["up"]),
+                " | ".join(f2(v) for v in p["down"]), ratio, per_uc))
     L.append("")
     L.append("#### Turbulence: sigma = sqrt(2k/3)")
     L.append("")
@@ -257,21 +253,16 @@ def markdown(res):
              "the same over U_c, 4 / 15 mm | %.1f-%.1f m, median: 4 / 7.5 / 15 mm | "
              "%.1f-%.1f m, sigma / abs(u), median at 15 mm |" % (FAR + FAR))
     L.append("|---|---|---|---|---|---|---|")
-    for t in tilts:
-        T = res["tilts"][str(t)]
-        for m in MODELS:
-            r = T["models"].get(m)
-            if r is None:
-                continue
-            sg = r["sigma"]
-            L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
-                t, SHORT[m],
-                " / ".join("%.0f %%" % (100 * sg[h]["near_max_share"]) for h in ("4", "7.5", "15")),
-                " / ".join("%.2f" % sg[h]["near_max_m_s"] for h in ("4", "15")),
-                " / ".join("%.2f" % (sg[h]["near_max_m_s"] / r["centreline_u_10cm_m_s"]) for h in ("4", "15")),
-                " / ".join("%.0f %%" % (100 * sg[h]["far_median_share"]) for h in ("4", "7.5", "15")),
-                f2(100 * sg["15"]["far_local_intensity_median"] if sg["15"]["far_local_intensity_median"]
-                   is not None else None, "%.0f %%")))
+    for t, T, m, r in rows(res, tilts):
+        sg = r["sigma"]
+        L.append("| %g | %s | %s | %s | %s | %s | %s |" % (
+            t, SHORT[m],
+            " / ".join("%.0f %%" % (100 * sg[h]["near_max_share"]) for h in ("4", "7.5", "15")),
+            " / ".join("%.2f" % sg[h]["near_max_m_s"] for h in ("4", "15")),
+            " / ".join("%.2f" % (sg[h]["near_max_m_s"] / r["centreline_u_10cm_m_s"]) for h in ("4", "15")),
+            " / ".join("%.0f %%" % (100 * sg[h]["far_median_share"]) for h in ("4", "7.5", "15")),
+            f2(100 * sg["15"]["far_local_intensity_median"] if sg["15"]["far_local_intensity_median"]
+               is not None else None, "%.0f %%")))
     if "0.0" in res["tilts"]:
         T = res["tilts"]["0.0"]
         L.append("")
