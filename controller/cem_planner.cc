@@ -168,9 +168,21 @@ void predict_extended(const ExtendedPlanning& ext, const ExtendedPredictor& pred
                       const CemParameters& params, const PlanningProblem& pr,
                       const NozzleOrientation& command, Scratch& scratch) {
   const size_t m = pr.positions_W.size();
-  // Until the new field has acted for Delta T: the transit and any extra delay come first.
+  // Until the new field has acted for Delta T: the transit, any extra delay and the transport
+  // lag to the farthest object come first.
+  double lag_s = 0.0;
+  if (ext.extensions.transport_pace_s_per_m > 0.0) {
+    NozzleOrientation felt = command;
+    felt.pan_rad += ext.extensions.pan_offset_rad;
+    felt.tilt_rad += ext.extensions.tilt_offset_rad;
+    const Eigen::Vector2d s_new = stagnation_point(predictor.field().geometry(), felt);
+    double farthest = 0.0;
+    for (const Eigen::Vector2d& p : pr.positions_W)
+      farthest = std::max(farthest, (p - s_new).norm());
+    lag_s = std::min(ext.extensions.transport_pace_s_per_m * farthest, kMaxTransportLagS);
+  }
   const double t_end =
-      params.horizon_s + ext.response.transit_delay_s + ext.extensions.extra_delay_s;
+      params.horizon_s + ext.response.transit_delay_s + ext.extensions.extra_delay_s + lag_s;
   std::vector<TimedCommand> commands;
   if (pr.nozzle_now) commands.push_back({-1.0, *pr.nozzle_now});
   commands.push_back({0.0, command});

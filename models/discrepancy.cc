@@ -133,10 +133,11 @@ std::vector<std::string> decidable_candidates(const WindowSet& ws, size_t n_held
   }
   std::vector<std::string> names;
   for (const EffectSpec& e : effect_catalogue()) {
-    if (e.id == EffectId::kResponseDelay && !any_change) {
+    if ((e.id == EffectId::kResponseDelay || e.id == EffectId::kTransportLag) && !any_change) {
       report->notes.push_back(
-          "response_delay cannot be decided: no window records a change of the nozzle command "
-          "(record a lead-in before each re-aim, or analyse a closed-loop log).");
+          std::string(e.name) +
+          " cannot be decided: no window records a change of the nozzle command (record a "
+          "lead-in before each re-aim, or analyse a closed-loop log).");
       continue;
     }
     names.push_back(e.name);

@@ -155,6 +155,8 @@ std::vector<std::vector<double>> fit_grid(const std::string& name) {
       return {lin(-12.0, 12.0, 9), lin(-6.0, 6.0, 7)};
     case EffectId::kFieldScale:
       return {lin(0.4, 2.4, 21)};
+    case EffectId::kTransportLag:
+      return {lin(0.0, 2.0, 11)};
   }
   AIRTWIN_DEMAND(false);
   return {};

@@ -64,6 +64,13 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "air speed times factor (stagnation pressure times factor^2)",
        {{"factor", "", 1.2, 1.0, true, 0.05, 3.0, 0.3, 2.5}},
        0.05},  // within the field table's own fit error
+      {EffectId::kTransportLag,
+       "transport_lag",
+       "a new nozzle orientation's air spreads from its stagnation point as the wall jet's front: "
+       "farther objects feel a re-aim later",
+       "each object feels the orientation whose air, spreading from s at 1 / pace, has reached it",
+       {{"pace_s_per_m", "s/m", 0.6, 0.0, true, 0.0, 5.0, 0.0, 2.0}},
+       0.1},  // s/m: 0.04 s at 0.4 m from s, about a camera frame
   }};
   return catalogue;
 }

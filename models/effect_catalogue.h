@@ -25,6 +25,9 @@
 //   nozzle_offset      pan_deg, tilt_deg (deg): servo calibration bias, the nozzle turns to
 //                      command + offset.
 //   field_scale        factor: the air speed times factor (stagnation pressure times factor^2).
+//   transport_lag      pace_s_per_m (s/m): a new orientation's air spreads from its s as the wall
+//                      jet's front, 1 / pace fast: a point r from s feels it pace r later (at
+//                      most kMaxTransportLagS).
 
 #include <array>
 #include <cstddef>
@@ -43,8 +46,13 @@ enum class EffectId {
   kStiction,
   kNozzleOffset,
   kFieldScale,
+  kTransportLag,
 };
-inline constexpr size_t kEffectCount = 8;
+inline constexpr size_t kEffectCount = 9;
+
+/// The longest transport lag (s) the twin and the model carry: a point farther from s than
+/// this times the front's speed feels the orientation of this long ago.
+inline constexpr double kMaxTransportLagS = 2.0;
 
 /// One parameter of an effect, in its typed unit.
 struct EffectParameter {

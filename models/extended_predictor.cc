@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "common/errors.h"
 
@@ -125,6 +126,97 @@ struct Mover {
   bool held = false;  // at rest, and the pull at p in the current field did not start it
 };
 
+// The orientations the air followed around a window, for the transport lag: runs of one
+// orientation on the predictor's time grid, from kMaxTransportLagS before the window's start to
+// its end. A point p feels at t the newest orientation o(t') whose air has spread to it from its
+// stagnation point s(t'): t - t' >= min(pace |p - s(t')|, kMaxTransportLagS). Within a run s is
+// fixed, so the newest run with an admissible t' is the answer.
+class FrontHistory {
+ public:
+  FrontHistory(const ExtendedPredictor& predictor, const ModelExtensions& ext,
+               const NozzleTimeline& timeline, double t0_s, double t_end_s, double h)
+      : pace_(ext.transport_pace_s_per_m), t0_(t0_s), h_(h) {
+    first_ = -static_cast<long>(std::ceil(kMaxTransportLagS / h)) - 1;
+    const long last = static_cast<long>(std::ceil((t_end_s - t0_s) / h)) + 1;
+    run_of_.reserve(static_cast<size_t>(last - first_ + 1));
+    for (long j = first_; j <= last; ++j) {
+      const double t = t0_s + static_cast<double>(j) * h;
+      const NozzleOrientation o = predictor.field_orientation(ext, timeline, t);
+      if (runs_.empty() || o.pan_rad != runs_.back().rays.orientation().pan_rad ||
+          o.tilt_rad != runs_.back().rays.orientation().tilt_rad) {
+        runs_.push_back({t, predictor.field().rays_at(o)});
+      }
+      run_of_.push_back(runs_.size() - 1);
+    }
+    runs_.front().t_from_s = -INFINITY;  // the air of before the history has reached everywhere
+  }
+
+  // The orientation a point at p feels at time t.
+  const NozzleOrientation& felt(double t, const Eigen::Vector2d& p) const {
+    const long j = static_cast<long>(std::floor((t - t0_) / h_ + 1e-6)) - first_;
+    size_t i = run_of_[static_cast<size_t>(std::clamp<long>(j, 0, std::ssize(run_of_) - 1))];
+    for (;; --i) {
+      const Run& r = runs_[i];
+      if (i == 0 || t - lag_s(p, r) >= r.t_from_s - 1e-9) return r.rays.orientation();
+    }
+  }
+  // The time from which a point at p feels the last orientation.
+  double settled_at(const Eigen::Vector2d& p) const {
+    return runs_.back().t_from_s + lag_s(p, runs_.back());
+  }
+
+ private:
+  struct Run {
+    double t_from_s;    // when the air began to follow this orientation at s
+    OrientedRays rays;  // the orientation, its s
+  };
+  double lag_s(const Eigen::Vector2d& p, const Run& r) const {
+    return std::min(pace_ * (p - r.rays.stagnation_point()).norm(), kMaxTransportLagS);
+  }
+  double pace_, t0_, h_;
+  long first_ = 0;  // grid index of the history's first sample (before t0)
+  std::vector<Run> runs_;
+  std::vector<size_t> run_of_;  // each sample's run
+};
+
+// What one object feels while the field changes: read along rays (two profiles per step) until
+// its orientation has held for kSteadySteps, then as the full field.
+struct FeltField {
+  FeltField(const AirFieldModel& model, const NozzleOrientation& o)
+      : model(model), orientation(o), rays(model.rays_at(o)) {}
+  // Moves on to orientation o; true when the field changed (an object held at rest must then be
+  // checked again).
+  bool update(const NozzleOrientation& o) {
+    if (o.pan_rad != orientation.pan_rad || o.tilt_rad != orientation.tilt_rad) {
+      orientation = o;
+      rays = model.rays_at(o);
+      have_field = false;
+      steady = 0;
+      return true;
+    }
+    if (!have_field && ++steady >= kSteadySteps) {
+      field = rays.field();
+      have_field = true;
+      return true;
+    }
+    return false;
+  }
+  void step(Mover& object, double h) const {
+    if (have_field) {
+      object.step(field, h);
+    } else {
+      object.step(rays, h);
+    }
+  }
+
+  const AirFieldModel& model;
+  NozzleOrientation orientation;
+  OrientedRays rays;
+  OrientedField field;
+  bool have_field = false;
+  int steady = 0;
+};
+
 }  // namespace
 
 void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions& ext,
@@ -147,46 +239,36 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   positions->assign(times_s.size(), start.p_W);
   if (times_s.empty()) return;
 
+  // With the transport lag, the orientation the object feels comes from the front's history.
+  const double h = step_;
+  std::optional<FrontHistory> front;
+  if (ext.transport_pace_s_per_m > 0.0) {
+    front.emplace(*this, ext, timeline, start.t_s, times_s.back(), h);
+  }
+  auto felt = [&](double t, const Eigen::Vector2d& p) {
+    return front ? front->felt(t, p) : field_orientation(ext, timeline, t);
+  };
   // While the nozzle moves the orientation changes every step: the field is then read along rays
   // (two profiles per step); once it has held still for kSteadySteps the full field is built.
-  NozzleOrientation cached = field_orientation(ext, timeline, start.t_s);
-  OrientedRays rays = field_.rays_at(cached);
-  OrientedField field;
-  bool have_field = false;
-  int steady = 0;
+  FeltField air(field_, felt(start.t_s, start.p_W));
   const Pull pull(xi, ext);
   Mover object(pull, start.p_W, start.v_W);
   double t = start.t_s;
-  const double h = step_;
   size_t next = 0;
   while (next < times_s.size() && times_s[next] <= t) (*positions)[next++] = object.p;
   // From here on the field no longer changes: an object held at rest then stays where it is.
   const double settled_s =
       timeline.settled_from_s() + timeline.parameters().transit_delay_s + ext.extra_delay_s;
   while (next < times_s.size()) {
-    if (object.held && have_field && t > settled_s) {
+    if (object.held && air.have_field &&
+        t > (front ? std::max(settled_s, front->settled_at(object.p)) : settled_s)) {
       while (next < times_s.size()) (*positions)[next++] = object.p;
       break;
     }
     // The field follows the nozzle: a new one when the orientation it follows has changed.
-    const NozzleOrientation o = field_orientation(ext, timeline, t);
-    if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
-      cached = o;
-      rays = field_.rays_at(o);
-      have_field = false;
-      steady = 0;
-      object.field_changed();
-    } else if (!have_field && ++steady >= kSteadySteps) {
-      field = rays.field();
-      have_field = true;
-      object.field_changed();
-    }
+    if (air.update(felt(t, object.p))) object.field_changed();
     const Eigen::Vector2d p_old = object.p;
-    if (have_field) {
-      object.step(field, h);
-    } else {
-      object.step(rays, h);
-    }
+    air.step(object, h);
     const double t_new = t + h;
     while (next < times_s.size() && times_s[next] <= t_new) {
       const double f = (times_s[next] - t) / h;
@@ -225,26 +307,46 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
     objects.emplace_back(pulls[j], starts[j].p_W, starts[j].v_W);
   std::vector<Eigen::Vector2d> p_old(starts.size());
 
-  NozzleOrientation cached = field_orientation(ext, timeline, t0);
-  OrientedField field = field_.at(cached);
   double t = t0;
   const double h = step_;
   if (t_end_s <= t) {
     for (size_t j = 0; j < objects.size(); ++j) ends[j] = objects[j].p;
     return;
   }
-  // The same steps as predict(), all objects under one field per step, and the same
-  // interpolation inside the last step.
-  while (true) {
-    const NozzleOrientation o = field_orientation(ext, timeline, t);
-    if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
-      cached = o;
-      field = field_.at(o);
-      for (Mover& m : objects) m.field_changed();
-    }
+  // Without the transport lag every object feels one field per step (rebuilt when the
+  // orientation changes); with it each object feels its own orientation, stepped as predict()
+  // steps one. The same interpolation inside the last step as predict().
+  std::optional<FrontHistory> front;
+  std::vector<FeltField> airs;
+  NozzleOrientation cached = field_orientation(ext, timeline, t0);
+  OrientedField field;
+  if (ext.transport_pace_s_per_m > 0.0) {
+    front.emplace(*this, ext, timeline, t0, t_end_s, h);
+    airs.reserve(objects.size());
     for (size_t j = 0; j < objects.size(); ++j) {
-      p_old[j] = objects[j].p;
-      objects[j].step(field, h);
+      airs.emplace_back(field_, front->felt(t0, starts[j].p_W));
+    }
+  } else {
+    field = field_.at(cached);
+  }
+  while (true) {
+    if (front) {
+      for (size_t j = 0; j < objects.size(); ++j) {
+        if (airs[j].update(front->felt(t, objects[j].p))) objects[j].field_changed();
+        p_old[j] = objects[j].p;
+        airs[j].step(objects[j], h);
+      }
+    } else {
+      const NozzleOrientation o = field_orientation(ext, timeline, t);
+      if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
+        cached = o;
+        field = field_.at(o);
+        for (Mover& m : objects) m.field_changed();
+      }
+      for (size_t j = 0; j < objects.size(); ++j) {
+        p_old[j] = objects[j].p;
+        objects[j].step(field, h);
+      }
     }
     const double t_new = t + h;
     if (t_end_s <= t_new) {

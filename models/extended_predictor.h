@@ -10,7 +10,10 @@
 //         + a_p(r) e_r                                      (pressure_gradient, outward from s)
 //         + g sin(angle) d                                  (floor_slope, downhill unit d)
 // with u = field_scale R(deflection) u_eq3(p; orientation the field follows), and that
-// orientation = NozzleTimeline::effective(t, tau) + nozzle_offset. An object at rest starts when
+// orientation = NozzleTimeline::effective(t, tau) + nozzle_offset; with the transport lag the
+// object at p feels instead the newest such orientation o(t') whose air has spread to it from
+// its stagnation point s(t'): t - t' >= min(pace |p - s(t')|, kMaxTransportLagS) (each object
+// its own orientation while a re-aim's front spreads). An object at rest starts when
 // the pull without friction exceeds stiction-ratio times |xi3|; a moving object stops when
 // friction would reverse it. Under one orientation and with every extension off, the velocity
 // stays radial from s and this is exactly eqs. (8)-(9) (tests/models/extended_predictor_test.cc

@@ -28,6 +28,8 @@ std::vector<double> typed_values(const ModelExtensions& x, EffectId id) {
       return {rad_to_deg(x.pan_offset_rad), rad_to_deg(x.tilt_offset_rad)};
     case EffectId::kFieldScale:
       return {x.field_scale};
+    case EffectId::kTransportLag:
+      return {x.transport_pace_s_per_m};
   }
   AIRTWIN_DEMAND(false);
   return {};
@@ -61,6 +63,9 @@ void set_values(ModelExtensions* x, EffectId id, const std::vector<double>& v) {
       return;
     case EffectId::kFieldScale:
       x->field_scale = v[0];
+      return;
+    case EffectId::kTransportLag:
+      x->transport_pace_s_per_m = v[0];
       return;
   }
   AIRTWIN_DEMAND(false);

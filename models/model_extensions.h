@@ -25,6 +25,9 @@ struct ModelExtensions {
   double pan_offset_rad = 0.0;         ///< nozzle_offset
   double tilt_offset_rad = 0.0;
   double field_scale = 1.0;  ///< (> 0)
+  /// transport_lag: a point r from s feels an orientation min(pace r, kMaxTransportLagS) after
+  /// it reached s (s/m, >= 0; 0: the field swings rigidly)
+  double transport_pace_s_per_m = 0.0;
 
   /// Throws InputError naming the effect and parameter when a value is not finite or out of its
   /// physical range (the catalogue's).

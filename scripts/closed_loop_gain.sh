@@ -20,7 +20,8 @@ jobs=$(nproc)
 effects="pressure_gradient:strength=13,length=0.2 response_delay:tau_s=0.6
 flow_deflection:angle_deg=15 quadratic_drag:coefficient=1.0
 floor_slope:angle_deg=4,direction_deg=120 stiction:ratio=1.7
-nozzle_offset:pan_deg=8,tilt_deg=4 field_scale:factor=1.25"
+nozzle_offset:pan_deg=8,tilt_deg=4 field_scale:factor=1.25
+transport_lag:pace_s_per_m=0.8"
 
 usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do

@@ -154,6 +154,17 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
     case EffectId::kFieldScale:
       params->air.field_scale = v[0];
       return;
+    case EffectId::kTransportLag:
+      // A front at the constant speed 1 / pace in either air: no start-up timing, formation or
+      // carry (the CFD's own lag is replaced).
+      params->air_transport.front_speed_mps = v[0] > 0.0 ? 1.0 / v[0] : 0.0;
+      params->air_transport.max_lag_s = kMaxTransportLagS;
+      params->air_transport.cfd_timing = false;
+      params->air_transport.formation = false;
+      params->air_transport.front_co_flow = 0.0;
+      params->air_transport.front_counter_flow = 0.0;
+      params->analytical_air_transport = true;
+      return;
   }
   AIRTWIN_DEMAND(false);
 }

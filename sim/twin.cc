@@ -1,5 +1,6 @@
 #include "sim/twin.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -38,6 +39,11 @@ struct Twin::Impl {
                                                 actuator.effective(), scene.objects.size())
                     : std::nullopt) {
     if (params.cfd_air) cfd_field = params.cfd_air->at(actuator.effective());
+    if (!params.cfd_air && params.analytical_air_transport) {
+      transport.emplace(params.air_transport, params.scene.timestep_s, actuator.effective(),
+                        nullptr, nullptr, field.stagnation_point());
+      lagged_fields.reserve(scene.objects.size());  // pointers into it stay valid for a step
+    }
   }
 
   void set_rig_joints();
@@ -57,6 +63,10 @@ struct Twin::Impl {
   // In the CFD's air, what each object feels: the orientation whose wall jet has reached it and
   // the formation's departure (sim/reached_air.h).
   std::optional<ReachedAir> reached;
+  // In the analytical air with analytical_air_transport: which orientation reaches each object,
+  // and this step's fields of the lagged orientations objects feel, by steps back.
+  std::optional<AirTransport> transport;
+  std::vector<std::pair<int, OrientedField>> lagged_fields;
   int64_t steps = 0;
   std::string last_warning;
 };
@@ -81,10 +91,26 @@ void Twin::Impl::refresh_field() {
 }
 
 // Each object's air comes from the newest orientation whose wall jet has reached it, formed over
-// time (sim/reached_air.h). The transport is enabled in the CFD's air only
-// (TwinParameters::air_transport).
+// time in the CFD's air (sim/reached_air.h). The transport is enabled in the CFD's air, and in
+// the analytical air with analytical_air_transport (TwinParameters::air_transport).
 void Twin::Impl::set_object_air() {
   air.clear_object_air();
+  if (transport && !transport->steady()) {
+    lagged_fields.clear();
+    for (size_t o = 0; o < scene.objects.size(); ++o) {
+      const double* x = data->xpos + 3 * scene.objects[o].root_body;
+      const int k = transport->reached_steps(Eigen::Vector2d(x[0], x[1]));
+      if (k == 0) continue;
+      auto it = std::find_if(lagged_fields.begin(), lagged_fields.end(),
+                             [k](const auto& f) { return f.first == k; });
+      if (it == lagged_fields.end()) {
+        lagged_fields.emplace_back(k, field_model.at(transport->at_lag(k)));
+        it = lagged_fields.end() - 1;
+      }
+      air.set_object_air(o, it->second);
+    }
+    return;
+  }
   if (!reached || !reached->begin_step()) return;
   for (size_t o = 0; o < scene.objects.size(); ++o) {
     const double* x = data->xpos + 3 * scene.objects[o].root_body;
@@ -198,6 +224,7 @@ void Twin::step() {
   s.set_rig_joints();
   s.refresh_field();
   if (s.reached) s.reached->push(s.actuator.effective(), *s.cfd_field);
+  if (s.transport) s.transport->push(s.actuator.effective(), s.field.stagnation_point());
   if (s.cfd_field) {
     s.air.set_air(*s.cfd_field, s.actuator.jet_level());
   } else {

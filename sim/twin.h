@@ -42,8 +42,12 @@ struct TwinParameters {
   /// rigidly. With cfd_timing and a CFD that has the jet's start-up, the lag and the free jet's
   /// transit (replacing nozzle.field_delay_s) are the CFD's. The analytical air (cfd_air null)
   /// mirrors the controller's model, which takes the new field everywhere at once after the
-  /// delay: there the pattern always swings rigidly and nozzle.field_delay_s holds.
+  /// delay: there the pattern swings rigidly and nozzle.field_delay_s holds, unless
+  /// analytical_air_transport is set.
   AirTransportParameters air_transport;
+  /// In the analytical air too, each object feels the orientation whose air has reached it by
+  /// air_transport (the transport_lag effect; its start-up and formation are the CFD's only).
+  bool analytical_air_transport = false;
   /// The air: the jet's CFD (shared, immutable; its tilt range must cover the nozzle's), or null
   /// for the analytical field of the field model the twin is built with.
   std::shared_ptr<const CfdField> cfd_air;

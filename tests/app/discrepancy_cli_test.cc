@@ -21,6 +21,7 @@
 #include <string>
 
 #include "common/random_stream.h"
+#include "sim/air_forces.h"
 #include "tests/app/cli_runner.h"
 #include "tests/support/test_run.h"
 
@@ -130,11 +131,31 @@ void expect_parameters(const Hidden& h, const Drawn& d, const json& r) {
   }
 }
 
+// What may be named beside the hidden effect: nothing, or, when `push_may_show`, the twin's own
+// stagnation-pressure push near s (AirForceParameters: p_s over the radius b), which the nominal
+// model lacks and null data leave below significance (a 3 % path error gain): once a large
+// effect is modelled the residual is small enough to show it. It must then be named for what it
+// is, pressure_gradient with its length within 25 % of b.
+void expect_only_companions(const json& r, const std::string& hidden, bool push_may_show) {
+  ASSERT_TRUE(r["found"].is_array() && !r["found"].empty()) << r.dump(1);
+  ASSERT_EQ(r["found"][0], hidden) << r.dump(1);
+  for (size_t i = 1; i < r["found"].size(); ++i) {
+    ASSERT_TRUE(push_may_show) << "named beside " << hidden << ": " << r["found"].dump();
+    ASSERT_EQ(r["found"][i], "pressure_gradient") << r["found"].dump();
+    const double b = AirForceParameters{}.pressure_radius_m;
+    const double length = r["extensions"]["pressure_gradient"]["length"].get<double>();
+    EXPECT_LE(std::abs(length - b), 0.25 * b) << "pressure_gradient.length " << length;
+    std::printf("also named: the twin's push near s, pressure_gradient length %.4g m (b %.4g m)\n",
+                length, b);
+  }
+}
+
 // `seed` is the twin's (the collection) in CI; the magnitudes come from the run's test seed. In
 // the acceptance tier the collection seed follows the test seed too (seed + 1000 (1 + test seed
 // mod 1000)), so that a sweep over test seeds draws the twin's scatter as well as the magnitudes
 // (the same magnitudes as CI's at that test seed).
-void expect_found(const Hidden& h, int seed, const std::string& object = "tracer") {
+void expect_found(const Hidden& h, int seed, const std::string& object = "tracer",
+                  bool push_may_show = false) {
   RandomStream rng(testing::test_seed(), RandomPurpose::kAnalysis, static_cast<uint64_t>(seed));
   const Drawn d = draw(h, &rng);
   const std::vector<double>& truth = d.truth;
@@ -147,7 +168,8 @@ void expect_found(const Hidden& h, int seed, const std::string& object = "tracer
   const std::string csv =
       collect(object + "_" + h.name, "--effect " + d.text, collection, true, object);
   const json r = analyse(csv, scratch_dir("discrepancy_" + object + "_" + h.name + "_out"));
-  ASSERT_EQ(r["found"], json::array({h.name})) << r.dump(1);
+  expect_only_companions(r, h.name, push_may_show);
+  if (::testing::Test::HasFatalFailure()) return;
   expect_parameters(h, d, r);
   const double base = r["baseline_end_mape"].get<double>();
   const double extended = r["extended_end_mape"].get<double>();
@@ -217,6 +239,11 @@ TEST(DiscrepancyCli, FindsNozzleOffset) {
 }
 TEST(DiscrepancyCli, FindsFieldScale) {
   expect_found({"field_scale", {{"factor", 1.2, 1.35, false}}, {0.2}}, 28);
+}
+TEST(DiscrepancyCli, FindsTransportLag) {
+  // Fronts at 1-2.5 m/s, the CFD's wall jet 0.4-1 m from s (docs/cfd.md). Modelled, the lag
+  // leaves the twin's own push near s to be seen (expect_only_companions).
+  expect_found({"transport_lag", {{"pace_s_per_m", 0.4, 1.0, false}}, {0.2}}, 29, "tracer", true);
 }
 
 // Two or three effects hidden at once must be found jointly, each parameter within 25 % (the

@@ -149,6 +149,41 @@ TEST(ExtendedPredictor, OffsetAndDelayAreShiftsOfTheCommands) {
   EXPECT_GT(most, 0.05);
 }
 
+// A point r from the new s feels a re-aim pace r after it reaches s: for an object held at rest
+// until then, the transport lag is a response delay of pace r (the defining equation), whatever
+// the re-aim. Servos that turn in a step keep intermediate orientations out of the comparison.
+TEST(ExtendedPredictor, TransportLagDelaysTheNewAirByPaceTimesTheDistanceFromItsS) {
+  const std::vector<double> t = frames(2.5);
+  NozzleResponseParameters fast;
+  fast.max_speed_radps = 1e4;
+  fast.max_acceleration_radps2 = 1e9;
+  // From far away (s 1.3 m out on -x: too weak to start a tracer) to straight down (s at 0).
+  const NozzleOrientation far{kPi, deg_to_rad(40.0)}, down{0.0, 0.0};
+  const NozzleTimeline reaim(fast, {{-5.0, far}, {0.2, down}}, 5.0);
+  ModelExtensions lag;
+  lag.transport_pace_s_per_m = 0.8;
+  for (const Eigen::Vector2d& p0 : {Eigen::Vector2d(0.3, 0.0), Eigen::Vector2d(0.0, -0.45)}) {
+    const double r = p0.norm();  // from the new s, the origin
+    ModelExtensions delay;
+    delay.extra_delay_s = lag.transport_pace_s_per_m * r;
+    const auto x = predict(kTracerDynamics, lag, reaim, p0, kAtRest, t);
+    const auto d = predict(kTracerDynamics, delay, reaim, p0, kAtRest, t);
+    const auto n = predict(kTracerDynamics, {}, reaim, p0, kAtRest, t);
+    double most = 0.0;
+    for (size_t k = 0; k < t.size(); ++k) {
+      // One step (1 ms) of a moving tracer apart at most.
+      EXPECT_LT((x[k] - d[k]).norm(), 2e-3) << "r " << r << " m, frame " << k;
+      most = std::max(most, (x[k] - n[k]).norm());
+    }
+    EXPECT_GT((x.back() - p0).norm(), 0.1);  // it moved
+    EXPECT_GT(most, 0.05);                   // and the lag mattered
+  }
+  // Before any re-aim nothing lags: a settled nozzle gives the nominal model exactly.
+  const auto settled_lag = predict(kTracerDynamics, lag, settled(kO), {0.6, 0.3}, kAtRest, t);
+  const auto settled_nominal = predict(kTracerDynamics, {}, settled(kO), {0.6, 0.3}, kAtRest, t);
+  for (size_t k = 0; k < t.size(); ++k) EXPECT_EQ(settled_lag[k], settled_nominal[k]) << k;
+}
+
 TEST(ExtendedPredictor, DeflectionTurnsTheStartAndStictionHolds) {
   const OrientedField of = field().at(kO);
   const Eigen::Vector2d s = of.stagnation_point(), e(1.0, 0.0);
@@ -237,17 +272,21 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
                                            {0.0, {0.05, 0.7}, {0.0, 0.0}},
                                            {0.0, {-0.9, 0.1}, {-0.3, 0.0}}};
   const ExtendedPredictor predictor(field(), 2e-3);
-  for (double t_end : {0.0, 0.0013, 0.7, 1.7}) {
-    std::vector<Eigen::Vector2d> ends(starts.size());
-    predictor.predict_ends(xi, ext, timeline, starts, t_end, ends);
-    for (size_t j = 0; j < starts.size(); ++j) {
-      std::vector<Eigen::Vector2d> one;
-      const double times[] = {t_end};
-      predictor.predict(xi[j], ext, timeline, starts[j], times, &one);
-      EXPECT_EQ(ends[j], one[0]) << "object " << j << " at " << t_end << " s";
-    }
-    if (t_end > 1.0) {
-      EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
+  // Without and with the transport lag (each object then feels its own orientation).
+  for (double pace : {0.0, 0.7}) {
+    ext.transport_pace_s_per_m = pace;
+    for (double t_end : {0.0, 0.0013, 0.7, 1.7}) {
+      std::vector<Eigen::Vector2d> ends(starts.size());
+      predictor.predict_ends(xi, ext, timeline, starts, t_end, ends);
+      for (size_t j = 0; j < starts.size(); ++j) {
+        std::vector<Eigen::Vector2d> one;
+        const double times[] = {t_end};
+        predictor.predict(xi[j], ext, timeline, starts[j], times, &one);
+        EXPECT_EQ(ends[j], one[0]) << "object " << j << " at " << t_end << " s, pace " << pace;
+      }
+      if (t_end > 1.0) {
+        EXPECT_GT((ends[0] - starts[0].p_W).norm(), 0.05);  // something moved
+      }
     }
   }
   std::vector<Eigen::Vector2d> two(2);

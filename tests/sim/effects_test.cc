@@ -104,12 +104,28 @@ TEST(EffectCatalogue, OneLinePerEffectWithUnitsAndDefaults) {
   const std::string text = effect_help();
   int lines = 0;
   for (char c : text) lines += c == '\n';
-  EXPECT_EQ(lines, 8);
-  for (const char* needle :
-       {"pressure_gradient", "strength=4 [0, 50] m/s^2", "length=0.15 [0.01, 1] m",
-        "response_delay", "tau_s=0.3", "flow_deflection", "angle_deg=15", "quadratic_drag",
-        "coefficient=0.5", "1/m", "floor_slope", "direction_deg=0", "stiction", "ratio=2",
-        "nozzle_offset", "pan_deg=3", "tilt_deg=2", "field_scale", "factor=1.2"}) {
+  EXPECT_EQ(lines, static_cast<int>(kEffectCount));
+  for (const char* needle : {"pressure_gradient",
+                             "strength=4 [0, 50] m/s^2",
+                             "length=0.15 [0.01, 1] m",
+                             "response_delay",
+                             "tau_s=0.3",
+                             "flow_deflection",
+                             "angle_deg=15",
+                             "quadratic_drag",
+                             "coefficient=0.5",
+                             "1/m",
+                             "floor_slope",
+                             "direction_deg=0",
+                             "stiction",
+                             "ratio=2",
+                             "nozzle_offset",
+                             "pan_deg=3",
+                             "tilt_deg=2",
+                             "field_scale",
+                             "factor=1.2",
+                             "transport_lag",
+                             "pace_s_per_m=0.6 [0, 5] s/m"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle << " missing from\n" << text;
   }
 }
@@ -122,7 +138,8 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
        parse_effect("response_delay:tau_s=0.5"), parse_effect("flow_deflection:angle_deg=-30"),
        parse_effect("quadratic_drag:coefficient=0.8"),
        parse_effect("floor_slope:angle_deg=3,direction_deg=90"), parse_effect("stiction:ratio=2.5"),
-       parse_effect("nozzle_offset:pan_deg=-2"), parse_effect("field_scale:factor=1.3")},
+       parse_effect("nozzle_offset:pan_deg=-2"), parse_effect("field_scale:factor=1.3"),
+       parse_effect("transport_lag:pace_s_per_m=0.8")},
       &p);
   EXPECT_EQ(p.air.extra_push_mps2, 6.0);
   EXPECT_EQ(p.air.extra_push_length_m, 0.1);
@@ -137,6 +154,14 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
   EXPECT_DOUBLE_EQ(p.nozzle.pan_offset_rad, deg_to_rad(-2));
   EXPECT_DOUBLE_EQ(p.nozzle.tilt_offset_rad, deg_to_rad(2));  // the default of the other key
   EXPECT_EQ(p.air.field_scale, 1.3);
+  EXPECT_DOUBLE_EQ(p.air_transport.front_speed_mps, 1.25);
+  EXPECT_EQ(p.air_transport.max_lag_s, kMaxTransportLagS);
+  EXPECT_FALSE(p.air_transport.cfd_timing);
+  EXPECT_FALSE(p.air_transport.formation);
+  EXPECT_EQ(p.air_transport.front_co_flow, 0.0);
+  EXPECT_EQ(p.air_transport.front_counter_flow, 0.0);
+  EXPECT_TRUE(p.analytical_air_transport);
+  EXPECT_FALSE(nominal.analytical_air_transport);
   // Nothing else moved.
   EXPECT_EQ(p.air.stagnation_pressure_pa, nominal.air.stagnation_pressure_pa);
   EXPECT_EQ(p.scene.tracer.kinetic_friction, nominal.scene.tracer.kinetic_friction);
@@ -188,6 +213,22 @@ class EffectPhysics : public ::testing::Test {
     }
     EXPECT_EQ(twin.warning_count(), 0) << twin.last_warning();
     return out;
+  }
+  // A tracer at `at` under the jet blowing from far away (s at ~1.3 m on the -x side: too weak
+  // to move it); at t = 0.1 s the nozzle is re-aimed straight down (s at the origin). When the
+  // tracer starts (moved 2 mm; 99 if not within 3 s).
+  double onset_after_reaim(const TwinParameters& p, const Eigen::Vector2d& at) {
+    Twin twin(one_tracer(at), p, field_model(), 4);
+    twin.settle_jet();
+    const Eigen::Vector2d p0 = twin.object_state(0).p_W;
+    twin.advance(0.1);
+    EXPECT_LT((twin.object_state(0).p_W - p0).norm(), 1e-3);
+    twin.command_nozzle({kPi, 0.0});
+    while (twin.time() < 3.0) {
+      twin.step();
+      if ((twin.object_state(0).p_W - p0).norm() > 0.002) return twin.time();
+    }
+    return 99.0;
   }
 };
 
@@ -306,26 +347,30 @@ TEST_F(EffectPhysics, FlowDeflectionTurnsTheMotionFromRadial) {
 }
 
 TEST_F(EffectPhysics, ResponseDelayStartsTheMotionLaterByTau) {
-  // The jet first blows from far away (s at ~1.3 m on the -x side: too weak to move the tracer);
-  // at t = 0.1 s the nozzle is re-aimed straight down. The tracer starts when the field follows.
-  auto onset = [&](const TwinParameters& p) {
-    Twin twin(one_tracer({0.3, 0.0}), p, field_model(), 4);
-    twin.settle_jet();
-    const Eigen::Vector2d p0 = twin.object_state(0).p_W;
-    twin.advance(0.1);
-    EXPECT_LT((twin.object_state(0).p_W - p0).norm(), 1e-3);
-    twin.command_nozzle({kPi, 0.0});
-    while (twin.time() < 2.0) {
-      twin.step();
-      if ((twin.object_state(0).p_W - p0).norm() > 0.002) return twin.time();
-    }
-    return 99.0;
-  };
+  // The tracer starts when the field follows the re-aim.
   const TwinParameters p = quiet({kPi, deg_to_rad(40)});
-  const double nominal = onset(p);
-  const double delayed = onset(with(p, "response_delay:tau_s=0.5"));
+  const Eigen::Vector2d at(0.3, 0.0);
+  const double nominal = onset_after_reaim(p, at);
+  const double delayed = onset_after_reaim(with(p, "response_delay:tau_s=0.5"), at);
   ASSERT_LT(nominal, 1.0);
   EXPECT_NEAR(delayed - nominal, 0.5, 0.02);
+}
+
+TEST_F(EffectPhysics, TransportLagStartsATracerLaterByPaceTimesItsDistanceFromTheNewS) {
+  // The re-aim's air spreads from the new s at 1 / pace: a tracer r from it starts pace r later
+  // than in the rigid field. Servos that turn in a few steps: the orientations of a slow turn
+  // would reach the tracer each at its own lag, and one of them, not the last, may start it.
+  TwinParameters p = quiet({kPi, deg_to_rad(40)});
+  p.nozzle.max_speed_radps = 1e3;
+  p.nozzle.max_acceleration_radps2 = 1e7;
+  for (const Eigen::Vector2d& at : {Eigen::Vector2d(0.3, 0.0), Eigen::Vector2d(0.0, 0.45)}) {
+    const double nominal = onset_after_reaim(p, at);
+    const double lagged = onset_after_reaim(with(p, "transport_lag:pace_s_per_m=1.5"), at);
+    ASSERT_LT(nominal, 1.0);
+    // Within a few of the twin's 2 ms steps: the lag's rounding to a half step and the onset's
+    // 2 mm test each take one or two (2 % of the lag).
+    EXPECT_NEAR(lagged - nominal, 1.5 * at.norm(), 0.01) << at.transpose();
+  }
 }
 
 TEST_F(EffectPhysics, QuadraticDragAddsCTimesTheSquaredRelativeSpeed) {
