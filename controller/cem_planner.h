@@ -47,7 +47,8 @@
 // extensions and the nozzle's response. The new command takes over from the previous one through
 // the servos and the field's delay (models/nozzle_response.h), the objects start from their full
 // observed velocity, and the prediction runs until the new field has acted for Delta T (to
-// Delta T plus the transit and any response_delay). A nozzle_offset is compensated: the command
+// Delta T plus the transit, any response_delay and the transport lag to the farthest object).
+// A nozzle_offset is compensated: the command
 // is the aim of eqs. (1)-(2) minus the offset (tilt no lower than 0), and the prediction sees
 // where the air then goes.
 

@@ -164,6 +164,62 @@ TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
   EXPECT_THROW(CemPlanner(model_, params, {}, bad), InputError);
 }
 
+// With the transport lag the prediction waits for the new air to reach the farthest object and
+// then runs Delta T: for one object at rest, out of the old air's reach, that is a response delay
+// of pace times its distance from the new s (the lag's definition, models/extended_predictor.h),
+// horizon and all. Servos that turn in a step keep the sweep's orientations out of it.
+TEST_F(CemPlannerTest, ExtendedPlanningWaitsForTheLaggedAir) {
+  ExtendedPlanning lag;
+  lag.response.max_speed_radps = 1e4;
+  lag.response.max_acceleration_radps2 = 1e9;
+  lag.step_s = 1e-3;
+  lag.extensions.transport_pace_s_per_m = 0.8;
+  // A short Delta T, so that the tracer is still under way at its end.
+  CemParameters params = CemParameters::line_defaults();
+  params.horizon_s = 0.5;
+  const CemPlanner lagged(model_, params, {}, lag);
+  PlanningProblem pr = problem();
+  p_ = {{0.3, 0.0}};
+  v_ = {Eigen::Vector2d::Zero()};
+  xi_ = {kTracerDynamics};
+  r_ = {Eigen::Vector2d(1.0, 0.0)};
+  pr = problem();
+  // The nozzle blows from far away (s ~1.3 m out on -x: too weak to start the tracer).
+  pr.nozzle_now = NozzleOrientation{kPi, deg_to_rad(40.0)};
+  const Eigen::Vector2d s(0.05, 0.0);
+  const double r = (p_[0] - s).norm();
+  ExtendedPlanning delay = lag;
+  delay.extensions.transport_pace_s_per_m = 0.0;
+  delay.extensions.extra_delay_s = 0.8 * r;
+  const CemPlanner delayed(model_, params, {}, delay);
+  ExtendedPlanning rigid = delay;
+  rigid.extensions.extra_delay_s = 0.0;
+  const CemPlanner swung(model_, params, {}, rigid);
+  std::vector<Eigen::Vector2d> with_lag, with_delay, without;
+  lagged.cost(pr, s, &with_lag);
+  delayed.cost(pr, s, &with_delay);
+  swung.cost(pr, s, &without);
+  EXPECT_GT((with_lag[0] - p_[0]).norm(), 0.1);  // it moved
+  // One 1 ms step of the moving tracer apart at most (the lag's grid against the delay's).
+  EXPECT_LT((with_lag[0] - with_delay[0]).norm(), 2e-3)
+      << with_lag[0].transpose() << " against " << with_delay[0].transpose();
+  // The same motion as in the rigid field, pace r later: the same end.
+  EXPECT_LT((with_lag[0] - without[0]).norm(), 2e-3);
+  // Stopped at the rigid field's horizon instead, the lagged prediction falls short.
+  const AimResult aim = aim_at_stagnation(model_.geometry(), s);
+  ASSERT_TRUE(aim.reachable());
+  const double t_short = params.horizon_s + lag.response.transit_delay_s;
+  const NozzleTimeline timeline(lag.response, {{-1.0, *pr.nozzle_now}, {0.0, *aim.orientation}},
+                                t_short + 1.0);
+  std::vector<Eigen::Vector2d> short_end;
+  const double times[] = {t_short};
+  ExtendedPredictor(model_, lag.step_s)
+      .predict(kTracerDynamics, lag.extensions, timeline, WindowStart{0.0, p_[0], v_[0]}, times,
+               &short_end);
+  EXPECT_GT((with_lag[0] - short_end[0]).norm(), 0.01)
+      << with_lag[0].transpose() << " against " << short_end[0].transpose();
+}
+
 // A compensated command never leaves the commanded tilt range: with a tilt offset of -3 deg the
 // aim of 58.5 deg needs 61.5 deg, which the servos refuse (the run stopped on it: "nozzle
 // command: tilt 62.8 deg is outside [0, 60]"), so its stagnation point is out of reach; the
