@@ -9,11 +9,13 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "sim/effects.h"
 #include "tests/support/cfd_cases.h"
 #include "tests/support/eq8_reference.h"
 #include "tests/support/scratch_dir.h"
@@ -177,10 +179,12 @@ SceneSpec busy_scene() {
 
 // Jet on, a nozzle move during the run, default truths (turbulence, push, stiction) on; the
 // analytical field's air or the CFD's.
-std::vector<double> run_busy(uint64_t seed, double duration = 0.6, bool cfd = false) {
+std::vector<double> run_busy(uint64_t seed, double duration = 0.6, bool cfd = false,
+                             const std::string& effect = "") {
   TwinParameters p;
   p.jet_on_at_start = true;
   if (cfd) p.cfd_air = shipped_cfd();
+  if (!effect.empty()) apply_effect(parse_effect(effect), &p);
   Twin twin(busy_scene(), p, field_model(), seed);
   twin.settle_jet();
   twin.advance(0.2);
@@ -206,6 +210,16 @@ TEST_F(TwinTest, InCfdAirSameSeedSameStatesAndTheAirIsNotTheModels) {
   EXPECT_TRUE(bit_identical(a, b));
   const std::vector<double> model = run_busy(21, 0.6, false);
   EXPECT_GT(std::abs(a[0] - model[0]) + std::abs(a[1] - model[1]), 1e-4);
+}
+
+// Each object's own lagged analytical air (the transport_lag effect): reruns the same to the bit,
+// and the lag changes where the objects go after the re-aim.
+TEST_F(TwinTest, WithTheTransportLagSameSeedSameStates) {
+  const std::string lag = "transport_lag:pace_s_per_m=1";
+  const std::vector<double> a = run_busy(21, 0.8, false, lag), b = run_busy(21, 0.8, false, lag);
+  EXPECT_TRUE(bit_identical(a, b));
+  const std::vector<double> rigid = run_busy(21, 0.8, false);
+  EXPECT_GT(std::abs(a[0] - rigid[0]) + std::abs(a[1] - rigid[1]), 1e-4);
 }
 
 TEST_F(TwinTest, TwinsInThreadsMatchTwinsAlone) {
