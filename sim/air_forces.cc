@@ -132,7 +132,7 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
   epsilon_body_.setZero(n);
   lift_body_.setZero(n);
   object_cfd_.assign(objects_.size(), nullptr);
-  object_field_.assign(objects_.size(), nullptr);
+  object_rays_.assign(objects_.size(), nullptr);
   object_departure_.assign(objects_.size(), Eigen::Vector2d::Zero());
   cos_deflection_ = std::cos(params_.flow_deflection_rad);
   sin_deflection_ = std::sin(params_.flow_deflection_rad);
@@ -163,9 +163,9 @@ void AirForces::set_object_air(size_t o, const CfdOrientedField& field) {
   any_object_air_ = true;
 }
 
-void AirForces::set_object_air(size_t o, const OrientedField& field) {
+void AirForces::set_object_air(size_t o, const OrientedRays& rays) {
   AIRTWIN_DEMAND(o < objects_.size() && field_ != nullptr);
-  object_field_[o] = &field;
+  object_rays_[o] = &rays;
   any_object_air_ = true;
 }
 
@@ -178,15 +178,15 @@ void AirForces::set_object_air_departure(size_t o, const Eigen::Vector2d& depart
 void AirForces::clear_object_air() {
   if (!any_object_air_) return;
   std::fill(object_cfd_.begin(), object_cfd_.end(), nullptr);
-  std::fill(object_field_.begin(), object_field_.end(), nullptr);
+  std::fill(object_rays_.begin(), object_rays_.end(), nullptr);
   std::fill(object_departure_.begin(), object_departure_.end(), Eigen::Vector2d::Zero());
   any_object_air_ = false;
 }
 
 Eigen::Vector2d AirForces::object_mean_air(size_t o, const Eigen::Vector2d& p_W, double z_m) const {
   AIRTWIN_DEMAND(o < objects_.size());
-  if (field_ != nullptr && object_field_[o] != nullptr) {
-    return jet_level_ * params_.field_scale * turned(object_field_[o]->velocity(p_W));
+  if (field_ != nullptr && object_rays_[o] != nullptr) {
+    return jet_level_ * params_.field_scale * turned(object_rays_[o]->velocity(p_W));
   }
   if (cfd_ == nullptr || object_cfd_[o] == nullptr) {
     const Eigen::Vector2d common = mean_air(p_W, z_m);
@@ -346,10 +346,10 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     if (any_object_air_) {
       // The transport lag: objects still in an older orientation's air take it from there.
       for (size_t o = 0; o < objects_.size(); ++o) {
-        if (object_field_[o] == nullptr) continue;
+        if (object_rays_[o] == nullptr) continue;
         for (size_t col = first_body_[o]; col < first_body_[o + 1]; ++col) {
           const Eigen::Index c = static_cast<Eigen::Index>(col);
-          u_body_W_.col(c) = object_field_[o]->velocity(p_body_W_.col(c));
+          u_body_W_.col(c) = object_rays_[o]->velocity(p_body_W_.col(c));
         }
       }
     }
@@ -362,10 +362,10 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
     const Eigen::Index n = static_cast<Eigen::Index>(obj.bodies.size());
     // The stagnation point of the air this object is in.
     const Eigen::Vector2d s_W =
-        !air ? Eigen::Vector2d::Zero()
-        : cfd_ != nullptr
-            ? (object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_).stagnation_point()
-            : (object_field_[o] != nullptr ? *object_field_[o] : *field_).stagnation_point();
+        !air              ? Eigen::Vector2d::Zero()
+        : cfd_ != nullptr ? (object_cfd_[o] != nullptr ? *object_cfd_[o] : *cfd_).stagnation_point()
+                          : (object_rays_[o] != nullptr ? object_rays_[o]->stagnation_point()
+                                                        : field_->stagnation_point());
 
     // The object's centre and velocity (area-weighted), and its turbulent air velocity.
     Eigen::Vector2d centre = Eigen::Vector2d::Zero(), v_obj = Eigen::Vector2d::Zero();

@@ -137,9 +137,10 @@ class AirForces {
   /// clear_object_air(): the wall jet's transport lag gives each object the orientation whose air
   /// has reached it (sim/air_transport.h). `field` must outlive the next apply().
   void set_object_air(size_t o, const CfdOrientedField& field);
-  /// In the analytical air, the same: object o feels `field` (an orientation's analytical air)
-  /// instead of the common one until clear_object_air() (the transport_lag effect).
-  void set_object_air(size_t o, const OrientedField& field);
+  /// In the analytical air, the same: object o feels `rays` (an orientation's analytical air,
+  /// read along the two profiles around each of its bodies) instead of the common one until
+  /// clear_object_air() (the transport_lag effect).
+  void set_object_air(size_t o, const OrientedRays& rays);
   /// In the CFD's air, object o's bodies feel `departure` (m/s, world frame, before the jet
   /// level and field scale) added to the air of its field until clear_object_air(): the wall
   /// jet still forming after the reached orientation changed (sim/air_transport.h).
@@ -205,7 +206,7 @@ class AirForces {
   // Per object in the CFD's air: its own air (set_object_air), or null for the common one.
   std::vector<const CfdOrientedField*> object_cfd_;
   // Per object in the analytical air: its own air (set_object_air), or null for the common one.
-  std::vector<const OrientedField*> object_field_;
+  std::vector<const OrientedRays*> object_rays_;
   std::vector<Eigen::Vector2d> object_departure_;  // per object (set_object_air_departure)
   bool any_object_air_ = false;
   double jet_level_ = 0.0;

@@ -42,7 +42,7 @@ struct Twin::Impl {
     if (!params.cfd_air && params.analytical_air_transport) {
       transport.emplace(params.air_transport, params.scene.timestep_s, actuator.effective(),
                         nullptr, nullptr, field.stagnation_point());
-      lagged_fields.reserve(scene.objects.size());  // pointers into it stay valid for a step
+      lagged_rays.reserve(scene.objects.size());  // pointers into it stay valid for a step
     }
   }
 
@@ -64,9 +64,10 @@ struct Twin::Impl {
   // the formation's departure (sim/reached_air.h).
   std::optional<ReachedAir> reached;
   // In the analytical air with analytical_air_transport: which orientation reaches each object,
-  // and this step's fields of the lagged orientations objects feel, by steps back.
+  // and this step's air of the lagged orientations objects feel, by steps back: read along rays
+  // (an object's few bodies need two profiles, not the full field of 360).
   std::optional<AirTransport> transport;
-  std::vector<std::pair<int, OrientedField>> lagged_fields;
+  std::vector<std::pair<int, OrientedRays>> lagged_rays;
   int64_t steps = 0;
   std::string last_warning;
 };
@@ -96,16 +97,16 @@ void Twin::Impl::refresh_field() {
 void Twin::Impl::set_object_air() {
   air.clear_object_air();
   if (transport && !transport->steady()) {
-    lagged_fields.clear();
+    lagged_rays.clear();
     for (size_t o = 0; o < scene.objects.size(); ++o) {
       const double* x = data->xpos + 3 * scene.objects[o].root_body;
       const int k = transport->reached_steps(Eigen::Vector2d(x[0], x[1]));
       if (k == 0) continue;
-      auto it = std::find_if(lagged_fields.begin(), lagged_fields.end(),
+      auto it = std::find_if(lagged_rays.begin(), lagged_rays.end(),
                              [k](const auto& f) { return f.first == k; });
-      if (it == lagged_fields.end()) {
-        lagged_fields.emplace_back(k, field_model.at(transport->at_lag(k)));
-        it = lagged_fields.end() - 1;
+      if (it == lagged_rays.end()) {
+        lagged_rays.emplace_back(k, field_model.rays_at(transport->at_lag(k)));
+        it = lagged_rays.end() - 1;
       }
       air.set_object_air(o, it->second);
     }
