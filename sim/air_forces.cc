@@ -105,7 +105,12 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     p.air_gain = t.air_gain;
     p.pressure_volume = t.pressure_volume_m3;
     p.extra_static = (t.static_friction_ratio - 1.0) * t.kinetic_friction * obj.mass_kg;
+    p.kinetic = t.kinetic_friction * obj.mass_kg;
     p.stiction_speed = t.stiction_speed_mps;
+    p.sticking = true;
+    p.pull = 0.0;
+    p.load = 0.0;
+    p.speed = 0.0;
     const double ex = streams_.back().normal();
     const double ey = streams_.back().normal();
     p.eta = Eigen::Vector2d(ex, ey);
@@ -208,6 +213,19 @@ void AirForces::advance_turbulence() {
   }
 }
 
+void AirForces::advance_friction() {
+  for (PerObject& po : per_object_) {
+    // Stuck objects hold up to mu_s N; sliding ones stop only where kinetic friction wins.
+    const double limit = (po.sticking ? po.extra_static + po.kinetic : po.kinetic) * po.load;
+    po.sticking = po.speed < po.stiction_speed && po.pull <= limit;
+  }
+}
+
+bool AirForces::sticking(size_t o) const {
+  AIRTWIN_DEMAND(o < per_object_.size());
+  return per_object_[o].sticking;
+}
+
 Eigen::Vector2d AirForces::turbulence_state(size_t o) const {
   AIRTWIN_DEMAND(o < per_object_.size());
   return per_object_[o].eta;
@@ -221,7 +239,12 @@ void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
   if (!fault_.empty()) return;
   // No air and a level floor: nothing to do (the holding force opposes air and slope only).
   const bool air = (field_ != nullptr || cfd_ != nullptr) && jet_level_ > 0.0;
-  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0) return;
+  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0) {
+    // Nothing pulls: every object will stick once the air is back (a sliding one stops within
+    // a step or two of kinetic friction anyway, and is released again by its speed).
+    for (PerObject& po : per_object_) po.pull = po.speed = 0.0;
+    return;
+  }
   try {
     if (m != bound_model_) bind(m);
     compute_forces(m, d, air);
@@ -439,14 +462,16 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       total += f;
     }
 
-    // Static friction beyond kinetic: hold against the push (and the floor's slope) at rest.
+    // Static friction beyond kinetic: on a sticking object, hold against the pull (the air and
+    // the floor's slope). The lift unloads the contact: (mu_s - mu_k)(m g - L) at most.
     const Eigen::Vector2d held = total + obj.mass_kg * g_floor_W;
     const double held_norm = held.norm();
-    if (po.extra_static > 0.0 && held_norm > 0.0) {
-      const double fade = std::exp(-v_obj.squaredNorm() / (po.stiction_speed * po.stiction_speed));
-      // The lift unloads the contact: (mu_s - mu_k)(m g - L) at most.
-      const double most = po.extra_static * std::max(0.0, g_normal - lift_total / obj.mass_kg);
-      const Eigen::Vector2d hold = -(std::min(held_norm, most) * fade / held_norm) * held;
+    po.pull = held_norm;
+    po.load = std::max(0.0, g_normal - lift_total / obj.mass_kg);
+    po.speed = v_obj.norm();
+    if (po.sticking && po.extra_static > 0.0 && held_norm > 0.0) {
+      const double most = po.extra_static * po.load;
+      const Eigen::Vector2d hold = -(std::min(held_norm, most) / held_norm) * held;
       for (Eigen::Index k = 0; k < n; ++k) f_body_W_.col(first + k) += obj.area_share[k] * hold;
     }
   }

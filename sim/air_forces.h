@@ -21,8 +21,11 @@
 //     floor (shared/notes/physics.md); b = 0.06 m, so the push peaks 4 cm from s and is gone by
 //     ~15 cm. For the tracer (V = 7.1e-6 m^3) the peak is 1.1 mN, 7 m/s^2: below its friction.
 //   static friction: kinetic friction comes from MuJoCo's contacts (mu_k per type). The extra
-//     static part is a holding force opposing the sum of the forces above, at most
-//     (mu_s - mu_k) m_o g, faded out by exp(-(|v_o| / v_stick)^2) as the object speeds up.
+//     static part is a holding force opposing the sum of the forces above (the pull P), at
+//     most (mu_s - mu_k) m_o g, on an object that sticks. Coulomb's hysteresis decides which
+//     do, once per step (advance_friction): an object sticks while |v_o| < v_stick and
+//     |P| <= mu_s m_o g; once released it slides on kinetic friction alone until it is back
+//     under v_stick with |P| < mu_k m_o g. Objects start sticking.
 // Forces are horizontal and act at each body's frame origin: the centre of a wad element, the
 // centre of a tracer's flat face. At the face the air adds no pitching moment; applied at the
 // tracer's centre of mass (5.6 mm up) it made the disc rock and hop on MuJoCo's soft contacts.
@@ -152,6 +155,11 @@ class AirForces {
   Eigen::Vector2d object_mean_air(size_t o, const Eigen::Vector2d& p_W, double z_m) const;
   /// Advances each object's turbulence by one timestep (call once per physics step).
   void advance_turbulence();
+  /// Decides which objects stick during the coming step from the pull and speed of the last
+  /// apply() (call once per physics step, before it; see static friction at the top).
+  void advance_friction();
+  /// Whether object o sticks (its static friction holds) during the coming step.
+  bool sticking(size_t o) const;
   /// Adds the air forces of the current state to d->qfrc_passive. Called by the dispatcher from
   /// inside mj_step; never throws (a fault is recorded, see fault()). The first call binds the
   /// object bodies to `m`'s dofs; later calls must pass the same model.
@@ -178,7 +186,12 @@ class AirForces {
     double air_gain;          // k_o
     double pressure_volume;   // V_o (m^3)
     double extra_static;      // (mu_s - mu_k) m_o (kg), times g gives the holding force
+    double kinetic;           // mu_k m_o (kg), times g gives the kinetic friction
     double stiction_speed;    // v_stick (m/s)
+    bool sticking;            // static friction holds during this step
+    double pull;              // |P| at the last apply (N)
+    double load;              // the contact's load per unit mass at the last apply (m/s^2)
+    double speed;             // |v_o| at the last apply (m/s)
     Eigen::Vector2d eta;      // OU state, unit variance per component
     double decay;             // eta's decay over one step (exp(-dt / T_L) under the CFD's air)
     double kick;              // sqrt(1 - decay^2): the new noise's weight, unit variance kept

@@ -25,7 +25,7 @@ ObjectTypeParameters ObjectTypeParameters::from_dynamics(const ObjectDynamics& x
 
 ObjectTypeParameters ObjectTypeParameters::tracer() {
   ObjectTypeParameters p = from_dynamics(kTracerTwinPhysics, 0.03, 0.16e-3);
-  p.static_friction_ratio = 1.2;
+  p.static_friction_ratio = 1.0;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 2.0 / 3.0 * kPi * r * r * r;  // 7.1e-6 m^3
   // Physical drag (DragLaw::kPhysical): a hemisphere lying on its face meets horizontal air with
@@ -45,7 +45,7 @@ ObjectTypeParameters ObjectTypeParameters::tracer() {
 
 ObjectTypeParameters ObjectTypeParameters::cotton() {
   ObjectTypeParameters p = from_dynamics(kCottonTwinPhysics, 0.05, 0.22e-3);
-  p.static_friction_ratio = 1.3;
+  p.static_friction_ratio = 1.0;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 0.1 * (4.0 / 3.0 * kPi * r * r * r);  // 6.5e-6 m^3
   // Physical drag: the wad flattened to 0.6 of its width in z (sim/scene_builder.h) meets the air

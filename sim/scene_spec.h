@@ -71,7 +71,8 @@ struct ObjectTypeParameters {
   /// Kinetic (Coulomb) friction coefficient against the floor, set on the MuJoCo contacts.
   double kinetic_friction = 0.0;
   /// Static / kinetic friction ratio (>= 1). The part above kinetic is applied by the air-force
-  /// callback as a holding force that fades out above `stiction_speed_mps`.
+  /// callback as a holding force on an object that sticks (sim/air_forces.h): one slower than
+  /// `stiction_speed_mps` whose pull has not passed static friction since it came to rest.
   double static_friction_ratio = 1.0;
   double stiction_speed_mps = 0.005;  ///< speed (m/s) below which the object counts as sticking
   /// Drag rate c/m (1/s) of F = c (k u_air - v).

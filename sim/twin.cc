@@ -233,6 +233,7 @@ void Twin::step() {
   }
   s.set_object_air();
   s.air.advance_turbulence();
+  s.air.advance_friction();
   {
     AirForcesScope scope(s.scene.model.get(), &s.air);
     mj_step(s.scene.model.get(), s.data.get());

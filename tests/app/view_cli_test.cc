@@ -38,7 +38,7 @@ using testing::run_airtwin;
 using testing::scratch_dir;
 
 const std::string kLine = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml";
-constexpr int64_t kSteps = 80;  // 2 s of simulated time: the tracer is moving (~1 px a frame)
+constexpr int64_t kSteps = 20;  // 0.5 s of simulated time: the tracer is moving (~4 mm a frame)
 
 // Where the Xvfb program is, or "" (found on PATH as a shell would).
 std::string xvfb_program() {
@@ -184,13 +184,13 @@ class ViewCliTest : public ::testing::Test {
   std::unique_ptr<Xvfb> xvfb_;
 };
 
-// The window's picture of frame 80 against the camera frame of the same state: two renderers
+// The window's picture of frame kSteps against the camera frame of the same state: two renderers
 // (GLX on Xvfb's llvmpipe in another process, OSMesa's llvmpipe here) on one scene, camera and
 // size. Both are Mesa's llvmpipe (one Debian source package), so they agree but for rounding:
 // measured, at most 1 grey level in any channel, no pixel beyond 8 (docs/viewer.md). The bounds
 // allow ten pixels beyond 8 grey levels (0.001 %: an edge rounded the other way here and there)
 // and a mean of 0.01 grey levels; a state one camera frame (25 ms) off already moves the tracer's
-// edge by ~64 pixels (0.006 %, checked below), and a wrong look (shadows, another camera, the
+// edge by ~74 pixels (0.007 %, checked below), and a wrong look (shadows, another camera, the
 // overlay) changes whole regions.
 TEST_F(ViewCliTest, ScreenshotMatchesTheOffscreenCameraFrameOfTheSameState) {
   const cv::Mat shot = screenshot("--no-overlay");
@@ -231,7 +231,7 @@ TEST_F(ViewCliTest, OverlayDrawsTheStagnationPointAndTheAir) {
 
 // --mjcf: the run is that of the user's scene. The unedited export of seed 1 gives the built
 // scene's picture to the pixel; the tracer made ten times heavier (eq. (8)'s drag scales with the
-// file's mass, the pressure push near s does not) is elsewhere at frame 80.
+// file's mass, the pressure push near s does not) is elsewhere at frame kSteps.
 TEST_F(ViewCliTest, MjcfSceneIsTheOneShown) {
   const std::string d = scratch_dir("view_mjcf");
   ASSERT_EQ(run_airtwin("scene '" + kLine + "' --seed 1 --out " + d).exit_code, 0);

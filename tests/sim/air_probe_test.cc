@@ -152,7 +152,10 @@ TEST(AirProbe, FeelsWhatTheTwinsObjectThereFeels) {
   TwinParameters p;
   p.air = AirForceParameters::none();
   p.air.stagnation_pressure_pa = 0.0;
+  // Held in place by static friction (MuJoCo's kinetic contacts alone let it creep): the air
+  // alone changes.
   p.scene.tracer.kinetic_friction = 20.0;
+  p.scene.tracer.static_friction_ratio = 2.0;
   p.cfd_air = cfd();
   p.air_transport.formation = true;
   p.nozzle.max_speed_radps = 7000.0;

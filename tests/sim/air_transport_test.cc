@@ -324,7 +324,10 @@ Formed formed(double time_scale = 1.0) {
   TwinParameters p;
   p.air = AirForceParameters::none();
   p.air.stagnation_pressure_pa = 0.0;
-  p.scene.tracer.kinetic_friction = 20.0;  // held in place: the air alone changes
+  // Held in place by static friction (MuJoCo's kinetic contacts alone let it creep): the air
+  // alone changes.
+  p.scene.tracer.kinetic_friction = 20.0;
+  p.scene.tracer.static_friction_ratio = 2.0;
   p.cfd_air = cfd;
   p.air_transport.formation = true;
   p.air_transport.formation_time_scale = time_scale;
