@@ -462,15 +462,16 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       total += f;
     }
 
-    // Static friction beyond kinetic: on a sticking object, hold against the pull (the air and
-    // the floor's slope). The lift unloads the contact: (mu_s - mu_k)(m g - L) at most.
+    // Static friction: a sticking object is held against the whole pull (the air and the
+    // floor's slope), up to mu_s (m g - L) (the lift unloads the contact), so that MuJoCo's soft
+    // kinetic contacts, which creep under a steady pull, have nothing left to hold.
     const Eigen::Vector2d held = total + obj.mass_kg * g_floor_W;
     const double held_norm = held.norm();
     po.pull = held_norm;
     po.load = std::max(0.0, g_normal - lift_total / obj.mass_kg);
     po.speed = v_obj.norm();
-    if (po.sticking && po.extra_static > 0.0 && held_norm > 0.0) {
-      const double most = po.extra_static * po.load;
+    if (po.sticking && held_norm > 0.0) {
+      const double most = (po.extra_static + po.kinetic) * po.load;
       const Eigen::Vector2d hold = -(std::min(held_norm, most) / held_norm) * held;
       for (Eigen::Index k = 0; k < n; ++k) f_body_W_.col(first + k) += obj.area_share[k] * hold;
     }

@@ -20,12 +20,12 @@
 //     Defaults: p_s = 11 Pa = rho U^2 / 2 with U = 4.3 m/s, the free-jet centreline speed at the
 //     floor (shared/notes/physics.md); b = 0.06 m, so the push peaks 4 cm from s and is gone by
 //     ~15 cm. For the tracer (V = 7.1e-6 m^3) the peak is 1.1 mN, 7 m/s^2: below its friction.
-//   static friction: kinetic friction comes from MuJoCo's contacts (mu_k per type). The extra
-//     static part is a holding force opposing the sum of the forces above (the pull P), at
-//     most (mu_s - mu_k) m_o g, on an object that sticks. Coulomb's hysteresis decides which
-//     do, once per step (advance_friction): an object sticks while |v_o| < v_stick and
-//     |P| <= mu_s m_o g; once released it slides on kinetic friction alone until it is back
-//     under v_stick with |P| < mu_k m_o g. Objects start sticking.
+//   static friction: kinetic friction comes from MuJoCo's contacts (mu_k per type). An object
+//     that sticks is held by a force opposing the sum of the forces above (the pull P), at most
+//     mu_s m_o g: the whole of it, since MuJoCo's soft contacts creep under a steady pull.
+//     Coulomb's hysteresis decides which do, once per step (advance_friction): an object sticks
+//     while |v_o| < v_stick and |P| <= mu_s m_o g; once released it slides on kinetic friction
+//     alone until it is back under v_stick with |P| < mu_k m_o g. Objects start sticking.
 // Forces are horizontal and act at each body's frame origin: the centre of a wad element, the
 // centre of a tracer's flat face. At the face the air adds no pitching moment; applied at the
 // tracer's centre of mass (5.6 mm up) it made the disc rock and hop on MuJoCo's soft contacts.
@@ -51,7 +51,7 @@
 // parameter of it is an eq. (8) coefficient. It adds a lift on each body, upward at the body
 // origin: L = w_b 1/2 rho C_L A_base |u_rel|^2 with A_base the footprint pi (diameter / 2)^2, which
 // unloads the contact, so MuJoCo's friction falls with it; the static holding force above is
-// (mu_s - mu_k)(m g - L) then.
+// mu_s (m g - L) then.
 //
 // Effects (sim/effects.h; all off by default, docs/twin.md): field_scale f multiplies the air
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
@@ -185,7 +185,7 @@ class AirForces {
     double drag_coefficient;  // c_o (kg/s)
     double air_gain;          // k_o
     double pressure_volume;   // V_o (m^3)
-    double extra_static;      // (mu_s - mu_k) m_o (kg), times g gives the holding force
+    double extra_static;      // (mu_s - mu_k) m_o (kg)
     double kinetic;           // mu_k m_o (kg), times g gives the kinetic friction
     double stiction_speed;    // v_stick (m/s)
     bool sticking;            // static friction holds during this step
