@@ -57,9 +57,6 @@ void CemParameters::validate(const std::string& source) const {
     throw InputError(source + ": controller.scan_step_m must be at least 0.01 m (or 0: no scan)");
   }
   if (predict_transition) transition.validate();
-  if (scan_step_m > 0.0 && search != CemSearch::kPlane) {
-    throw InputError(source + ": controller.scan_step_m applies to the plane search only");
-  }
 }
 
 CemPlanner::CemPlanner(const AirFieldModel& model, const CemParameters& params,
@@ -81,6 +78,9 @@ namespace {
 constexpr size_t kScanShortlist = 10;
 // How many of the scan's coarse points are refined at the full pitch.
 constexpr size_t kScanCoarseBest = 3;
+// A line search whose feasible samples' costs all lie within this (m) moved nothing it could
+// rank: 1 mm, a tenth of the paper's smallest path error (Table I: 0.67 cm).
+constexpr double kBlindSpread_m = 1e-3;
 
 // Per-decision scratch: the predictor's output and the start states, reused over candidates.
 struct Scratch {
@@ -404,6 +404,73 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
                                         : z;
   };
 
+  // The scan (see cem_planner.h): eq. (10) on a grid of stagnation points over the reachable
+  // disc, coarse to fine or every point at the pitch; returns the cheapest feasible point and
+  // its cost (infinite cost: none feasible).
+  auto scan = [&](bool coarse_first) -> std::pair<Eigen::Vector2d, double> {
+    Eigen::Vector2d best = Eigen::Vector2d::Zero();
+    // Coarse to fine: the grid of twice the pitch first, then the full pitch around its
+    // kScanCoarseBest cheapest points (their 3 x 3 neighbourhoods). Points in a fixed order,
+    // ties to the first, so the result is deterministic. With the re-aim predicted, the grid is
+    // ranked on the paper's prediction (one orientation instead of the sweep's dozen) and the
+    // kScanShortlist cheapest are ranked again with the re-aim.
+    CemParameters plain = p;
+    plain.predict_transition = false;
+    const bool rerank = p.predict_transition && problem.nozzle_now.has_value();
+    const double r_max = max_stagnation_radius(model_.geometry());
+    const int half = static_cast<int>(std::floor(r_max / p.scan_step_m));
+    const int side = 2 * half + 1;
+    std::vector<char> visited(static_cast<size_t>(side) * side, 0);
+    std::vector<std::pair<double, Eigen::Vector2d>> ranked;
+    auto visit = [&](int ix, int iy) {
+      if (std::abs(ix) > half || std::abs(iy) > half) return;
+      char& seen = visited[static_cast<size_t>(iy + half) * side + (ix + half)];
+      const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
+      if (seen || s.norm() > r_max) return;
+      seen = 1;
+      bool feasible = false;
+      const double c = evaluate(model_, preds, plain, problem, s, scratch, nullptr, &feasible);
+      result.evaluations += feasible ? 1 : 0;
+      if (feasible) ranked.emplace_back(c, s);
+    };
+    // The coarse grid holds the origin (even indices); without it, every point at the pitch.
+    const int stride = coarse_first ? 2 : 1;
+    const int from = coarse_first ? -half + (half % 2) : -half;
+    for (int iy = from; iy <= half; iy += stride) {
+      for (int ix = from; ix <= half; ix += stride) visit(ix, iy);
+    }
+    std::vector<std::pair<double, Eigen::Vector2d>> coarse = ranked;
+    std::stable_sort(coarse.begin(), coarse.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (coarse.size() > kScanCoarseBest) coarse.resize(kScanCoarseBest);
+    for (const auto& [c, s] : coarse) {
+      const int cx = static_cast<int>(std::lround(s.x() / p.scan_step_m));
+      const int cy = static_cast<int>(std::lround(s.y() / p.scan_step_m));
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) visit(cx + dx, cy + dy);
+      }
+    }
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (rerank && ranked.size() > kScanShortlist) ranked.resize(kScanShortlist);
+    double cheapest = std::numeric_limits<double>::infinity();
+    for (const auto& [plain_cost, s] : ranked) {
+      double c = plain_cost;
+      if (rerank) {
+        bool feasible = false;
+        c = evaluate(model_, preds, p, problem, s, scratch, nullptr, &feasible);
+        result.evaluations += feasible ? 1 : 0;
+        if (!feasible) continue;
+      }
+      if (c < cheapest) {
+        cheapest = c;
+        best = s;
+      }
+      if (!rerank) break;  // ranked by the cost itself: the first is the cheapest
+    }
+    return {best, cheapest};
+  };
+
   Eigen::Vector2d mu;
   Eigen::Matrix2d sigma = Eigen::Matrix2d::Zero();
   Eigen::Vector2d scan_best = Eigen::Vector2d::Zero();
@@ -417,66 +484,8 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     mu /= static_cast<double>(m);
     sigma = Eigen::Matrix2d::Identity() * p.variance0_m2;
     if (p.scan_step_m > 0.0) {
-      // The scan (see cem_planner.h), coarse to fine: the grid of twice the pitch first, then
-      // the full pitch around its kScanCoarseBest cheapest points (their 3 x 3 neighbourhoods).
-      // Points in a fixed order, ties to the first, so the result is deterministic; no feasible
-      // point leaves mu at the mean. With the re-aim predicted, the grid is ranked on the
-      // paper's prediction (one orientation instead of the sweep's dozen) and the
-      // kScanShortlist cheapest are ranked again with the re-aim.
-      CemParameters plain = p;
-      plain.predict_transition = false;
-      const bool rerank = p.predict_transition && problem.nozzle_now.has_value();
-      const double r_max = max_stagnation_radius(model_.geometry());
-      const int half = static_cast<int>(std::floor(r_max / p.scan_step_m));
-      const int side = 2 * half + 1;
-      std::vector<char> visited(static_cast<size_t>(side) * side, 0);
-      std::vector<std::pair<double, Eigen::Vector2d>> ranked;
-      auto visit = [&](int ix, int iy) {
-        if (std::abs(ix) > half || std::abs(iy) > half) return;
-        char& seen = visited[static_cast<size_t>(iy + half) * side + (ix + half)];
-        const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
-        if (seen || s.norm() > r_max) return;
-        seen = 1;
-        bool feasible = false;
-        const double c = evaluate(model_, preds, plain, problem, s, scratch, nullptr, &feasible);
-        result.evaluations += feasible ? 1 : 0;
-        if (feasible) ranked.emplace_back(c, s);
-      };
-      // The coarse grid holds the origin (even indices).
-      for (int iy = -half + (half % 2); iy <= half; iy += 2) {
-        for (int ix = -half + (half % 2); ix <= half; ix += 2) visit(ix, iy);
-      }
-      std::vector<std::pair<double, Eigen::Vector2d>> coarse = ranked;
-      std::stable_sort(coarse.begin(), coarse.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
-      if (coarse.size() > kScanCoarseBest) coarse.resize(kScanCoarseBest);
-      for (const auto& [c, s] : coarse) {
-        const int cx = static_cast<int>(std::lround(s.x() / p.scan_step_m));
-        const int cy = static_cast<int>(std::lround(s.y() / p.scan_step_m));
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) visit(cx + dx, cy + dy);
-        }
-      }
-      std::stable_sort(ranked.begin(), ranked.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
-      if (rerank && ranked.size() > kScanShortlist) ranked.resize(kScanShortlist);
-      double cheapest = std::numeric_limits<double>::infinity();
-      for (const auto& [plain_cost, s] : ranked) {
-        double c = plain_cost;
-        if (rerank) {
-          bool feasible = false;
-          c = evaluate(model_, preds, p, problem, s, scratch, nullptr, &feasible);
-          result.evaluations += feasible ? 1 : 0;
-          if (!feasible) continue;
-        }
-        if (c < cheapest) {
-          cheapest = c;
-          mu = s;
-        }
-        if (!rerank) break;  // ranked by the cost itself: the first is the cheapest
-      }
-      scan_best = mu;
-      scan_cost = cheapest;
+      std::tie(scan_best, scan_cost) = scan(true);
+      if (scan_cost < std::numeric_limits<double>::infinity()) mu = scan_best;
     }
   }
 
@@ -485,6 +494,10 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   std::vector<int> order(n);
   double best_cost = std::numeric_limits<double>::infinity();
   Eigen::Vector2d best_z = mu;
+  // The spread of the feasible samples' costs: under kBlindSpread_m, no sample changed what the
+  // objects do, and the elites are only the first drawn.
+  double lowest_feasible = std::numeric_limits<double>::infinity();
+  double highest_feasible = -std::numeric_limits<double>::infinity();
   for (int it = 0; it < p.max_iterations; ++it) {
     // Sample: x = mu + L w, L the Cholesky factor of Sigma (a 2x2 written out; Sigma is PSD).
     const double l00 = std::sqrt(std::max(0.0, sigma(0, 0)));
@@ -497,6 +510,10 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
       bool feasible = false;
       costs[i] = evaluate(model_, preds, p, problem, to_point(z[i]), scratch, nullptr, &feasible);
       result.evaluations += feasible ? 1 : 0;
+      if (feasible) {
+        lowest_feasible = std::min(lowest_feasible, costs[i]);
+        highest_feasible = std::max(highest_feasible, costs[i]);
+      }
       if (costs[i] < best_cost) {
         best_cost = costs[i];
         best_z = z[i];
@@ -532,6 +549,14 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   if (!feasible && best_cost < p.penalty) {
     s = to_point(best_z);
     j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
+  }
+  // A blind line search (see cem_planner.h) scans the disc when a pitch is set.
+  if (p.search == CemSearch::kLine && p.scan_step_m > 0.0 &&
+      !(highest_feasible - lowest_feasible >= kBlindSpread_m)) {
+    // Every point at the pitch: where the model moves nothing from the ray, the pushes that do
+    // are few and close to the objects, and a coarse grid's cheapest points are only its first.
+    std::tie(scan_best, scan_cost) = scan(false);
+    result.blind_scan = true;
   }
   // After a scan the decision is never worse than the scan's best point.
   if (scan_cost < p.penalty && (!feasible || scan_cost < j)) {

@@ -22,7 +22,7 @@
 // an object. Deterministic: the samples come from a RandomStream the caller seeds.
 //
 // Two additions the paper does not use, both off unless asked for (sorting in stages uses them,
-// controller/task.h):
+// controller/task.h; the path files use the scan):
 //  - per-object weights and reaches in eq. (10):
 //      J = sum_j w_j || p_j^end - r_j || + kOutOfReachCost sum_j max(0, |p_j^end| - R_j),
 //    |p| measured from the point below the nozzle; w_j = 1 and R_j = infinity give eq. (10).
@@ -31,7 +31,14 @@
 //    the full pitch around the three cheapest); the cheapest feasible point becomes mu0 instead
 //    of the objects' mean, and the decision is the cheaper of the search's final mean and that
 //    point. With objects spread over the floor the best push can be a metre from their mean,
-//    where a Gaussian of a few cm never samples.
+//    where a Gaussian of a few cm never samples. In the line search the same scan runs only when
+//    the search was blind: every feasible sample's cost within 1 mm of the others, i.e. the
+//    model moves nothing from anywhere on the ray (an object out where only the weak air
+//    upstream of an oblique jet's s would push it toward its reference). The elites are then
+//    the first draws and the mean a random walk. The scan, over every point at the pitch (a
+//    coarse grid's cheapest points would be only its first: the pushes that move such an
+//    object are few and near it), finds a push from another side, and the decision is the
+//    cheaper of the two.
 //
 // Transition (predict_transition, not in the paper): eq. (10) is evaluated on the prediction of
 // the whole re-aim. The servos take up to ~1 s to turn (7 rad/s, 30 rad/s^2) and never wrap in
@@ -92,8 +99,8 @@ struct CemParameters {
   /// Sigma* (m^2): the variance (line) or the covariance's Frobenius norm (plane) below which
   /// the search has converged.
   double converged_variance_m2 = 0.3e-4;
-  /// Plane search only: pitch (m) of the grid scanned for mu0 (see above); 0, the paper's
-  /// choice: mu0 is the objects' mean.
+  /// Pitch (m) of the grid scan (see above); 0, the paper's choice: no scan. Plane search: the
+  /// scan sets mu0. Line search: the disc is scanned only when the search was blind.
   double scan_step_m = 0.0;
   /// Predict the re-aim too (see above): the air keeps the previous orientation for the
   /// transit, then sweeps with the servos to the new one. false: the paper's model, the new
@@ -145,8 +152,9 @@ struct PlanResult {
   NozzleOrientation orientation;  ///< its nozzle orientation (eqs. 1-2 inverted)
   double cost = 0.0;              ///< eq. (10) at s*
   int iterations = 0;
-  int evaluations = 0;     ///< candidates predicted (J_P ones not counted)
-  bool converged = false;  ///< Sigma fell below Sigma*
+  int evaluations = 0;      ///< candidates predicted (J_P ones not counted)
+  bool converged = false;   ///< Sigma fell below Sigma*
+  bool blind_scan = false;  ///< line search: no sample moved anything, the disc was scanned
   /// Predicted end positions at s* (m), per object.
   std::vector<Eigen::Vector2d> predicted_end_W;
 };

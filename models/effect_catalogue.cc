@@ -48,7 +48,7 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
       {EffectId::kStiction,
        "stiction",
        "static friction exceeds kinetic friction: objects at rest need more air to start",
-       "static / kinetic friction ratio of every object (replaces 1.2 / 1.3)",
+       "static / kinetic friction ratio of every object (replaces the twin's own)",
        {{"ratio", "", 2.0, 1.0, true, 1.0, 10.0, 1.0, 5.0}},
        0.3},  // up to 1.3 is ordinary for dry contacts and absorbed by eq. (8)'s xi3
       {EffectId::kNozzleOffset,

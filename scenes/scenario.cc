@@ -421,9 +421,6 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
     if (p.scan_step_m > 0.0 && p.scan_step_m < 0.01) {
       r.expected(*v, "0 (no scan) or a pitch of at least 0.01 m");
     }
-    if (p.scan_step_m > 0.0 && search != CemSearch::kPlane) {
-      r.fail(*v, "the scan applies to the plane search only");
-    }
   }
   if (auto v = m->optional("predict_transition")) p.predict_transition = r.boolean(*v);
   // n* must leave a choice among the n samples.

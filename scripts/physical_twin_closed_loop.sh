@@ -66,9 +66,10 @@ else
 fi
 
 # The paper's CEM settings: the files differ from the code's defaults (the paper's) only where
-# they retune Sigma0 for the mirror twin; the octagon already uses the defaults.
+# they retune Sigma0 for the mirror twin and scan the floor when the line search is blind; the
+# octagon already uses the defaults.
 for name in line square letter_A octagon; do
-  grep -v '^  variance0_m2:' "scenes/$name.yaml" > "$out/scenes/$name.yaml"
+  grep -v -e '^  variance0_m2:' -e '^  scan_step_m:' "scenes/$name.yaml" > "$out/scenes/$name.yaml"
 done
 
 "$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml --seeds "$seeds" --quiet \

@@ -15,7 +15,8 @@
 //   quadratic_drag     air.quadratic_drag_per_m: C |u_rel| u_rel (1/2 rho C_d A / m of a tracer
 //                      is ~0.6 1/m).
 //   floor_slope        scene.floor_slope_rad, scene.floor_slope_direction_rad.
-//   stiction           scene.{tracer,cotton}.static_friction_ratio (replaces 1.2 and 1.3).
+//   stiction           scene.{tracer,cotton}.static_friction_ratio (replaces 1.0 under eq. (8)'s
+//                      law; the physical law's calibrated 1.4 and 1.3).
 //   nozzle_offset      nozzle.{pan,tilt}_offset_rad: the nozzle turns to command + offset, the
 //                      recorded command stays the command.
 //   field_scale        air.field_scale: mean air and turbulence times factor.

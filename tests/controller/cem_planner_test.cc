@@ -319,6 +319,49 @@ TEST_F(CemPlannerTest, PlaneSearchBeatsDoingNothingWhenItCan) {
   EXPECT_GE((result.stagnation_W - p_[0]).norm(), params.min_distance_m);
 }
 
+TEST_F(CemPlannerTest, BlindLineSearchScansForAPushFromAnotherSide) {
+  // A tracer out at r = 0.68 m whose reference lies toward the nozzle's foot (where the square
+  // left one after a sweep flung it, seed 2): the ray away from the reference puts s beyond the
+  // tracer, which then sits upstream of an oblique jet's s, where the model's air stays under
+  // the tracer's start. Every line sample leaves it in place (eq. 10: its distance).
+  p_ = {{0.5565, 0.3724}};
+  v_ = {{0.0, 0.0}};
+  xi_ = {kTracerDynamics};
+  r_ = {{0.2728, 0.2429}};
+  const double stay = (p_[0] - r_[0]).norm();
+  CemParameters params = CemParameters::line_defaults();
+  params.variance0_m2 = 0.02;  // the path files' Sigma0
+  const Eigen::Vector2d e = (p_[0] - r_[0]).normalized();
+  const CemPlanner paper(model_, params);
+  for (double x = params.min_distance_m; x <= 1.2; x += 0.01) {
+    const double c = paper.cost(problem(), p_[0] + x * e);
+    if (c < params.penalty) EXPECT_NEAR(c, stay, 1e-3) << "s " << x << " m out";
+  }
+  RandomStream rng(5, RandomPurpose::kController, 0);
+  const PlanResult blind = paper.plan(problem(), rng);
+  EXPECT_FALSE(blind.blind_scan);
+  EXPECT_NEAR(blind.cost, stay, 1e-3);
+  // With a scan pitch the disc is scanned: a push from elsewhere brings it closer, and the
+  // decision's cost is eq. (10) at the s it returns.
+  params.scan_step_m = 0.05;
+  const CemPlanner scanning(model_, params);
+  RandomStream rng2(5, RandomPurpose::kController, 0);
+  const PlanResult found = scanning.plan(problem(), rng2);
+  EXPECT_TRUE(found.blind_scan);
+  EXPECT_LT(found.cost, stay - 0.02);  // measured 4.5 cm closer
+  EXPECT_DOUBLE_EQ(found.cost, scanning.cost(problem(), found.stagnation_W));
+  // A search that sees something is left as it was, to the bit.
+  p_ = {{0.3, 0.0}};
+  r_ = {{0.1, 0.0}};
+  RandomStream rng3(5, RandomPurpose::kController, 0), rng4(5, RandomPurpose::kController, 0);
+  const PlanResult seeing = paper.plan(problem(), rng3);
+  const PlanResult seeing_too = scanning.plan(problem(), rng4);
+  EXPECT_FALSE(seeing_too.blind_scan);
+  EXPECT_LT(seeing.cost, 0.2 - 0.01);
+  EXPECT_EQ(seeing.stagnation_W, seeing_too.stagnation_W);
+  EXPECT_EQ(seeing.cost, seeing_too.cost);
+}
+
 // Weights and reaches against the definition: the weighted sum of the unweighted planner's
 // distances (same predictions: the ends do not depend on the weights), plus kOutOfReachCost per
 // metre an end lies beyond its reach from the point below the nozzle.
@@ -396,10 +439,7 @@ TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
   // Deterministic: the scan draws nothing.
   RandomStream rng3(1, RandomPurpose::kController, 0);
   EXPECT_EQ(planner.plan(problem(), rng3).stagnation_W, with.stagnation_W);
-  // The scan belongs to the plane search; a pitch below 1 cm is refused.
-  CemParameters line = CemParameters::line_defaults();
-  line.scan_step_m = 0.1;
-  EXPECT_THROW(line.validate("x.yaml"), InputError);
+  // A pitch below 1 cm is refused.
   scanned.scan_step_m = 0.001;
   EXPECT_THROW(scanned.validate("x.yaml"), InputError);
 }

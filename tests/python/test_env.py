@@ -140,17 +140,18 @@ def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
     loaded = airtwin.Twin(LINE, 1, 30.0, 20.0, mjcf=mjcf)
     for _ in range(40):
         assert built.step(30.0, 20.0).tobytes() == loaded.step(30.0, 20.0).tobytes()
-    # Physical drag and an effect move the tracer otherwise than eq. (8) in the model's air.
+    # Physical drag and an effect move the tracer otherwise than eq. (8) in the model's air
+    # (s 19 cm from it: the air starts every one but the 3 g tracer).
     ends = {}
     for name, kwargs in (("eq8", {}), ("physical", {"drag": "physical"}),
                          ("slope", {"effects": ["floor_slope"]}),
                          ("mass", {"drag": "physical", "object_physics": ["tracer:mass_g=3"]})):
-        twin = airtwin.Twin(LINE, 1, 30.0, 20.0, **kwargs)
+        twin = airtwin.Twin(LINE, 1, 150.0, 20.0, **kwargs)
         for _ in range(40):
-            states = twin.step(30.0, 20.0)
+            states = twin.step(150.0, 20.0)
         ends[name] = states[0, :2]
     for name in ("physical", "slope", "mass"):
-        assert np.hypot(*(ends[name] - ends["eq8"])) > 1e-4, name
+        assert np.hypot(*(ends[name] - ends["eq8"])) > 0.01, name
     # The env takes the same options; a run with them through the module equals the CLI's.
     out = tmp_path / "run"
     status, _, stderr = run_cli("run", LINE, "--seed", 1, "--drag", "physical", "--effect",

@@ -65,10 +65,12 @@ void expect_same(const CemParameters& a, const CemParameters& b) {
   EXPECT_EQ(a.predict_transition, b.predict_transition);
 }
 
-// The single-tracer files retune Sigma0 for the twin's field (docs/controller.md).
+// The single-tracer files retune Sigma0 for the twin's field and scan the floor when the line
+// search is blind (docs/controller.md).
 CemParameters single_object_cem() {
   CemParameters p = CemParameters::line_defaults();
   p.variance0_m2 = 0.02;
+  p.scan_step_m = 0.1;
   return p;
 }
 
@@ -442,8 +444,8 @@ TEST(ScenarioErrors, SortingStagesAndScanNameTheKey) {
   expect_error(sorting_with("  reach_m: -1"), 9, "task.reach_m", "got '-1'");
   expect_error(path_task_with(4, "  kind: path\n  reach_m: 1.0"), 5, "task.reach_m",
                "not used by a path task");
-  expect_error(std::string(kPathTask) + "controller: {scan_step_m: 0.1}\n", 7,
-               "controller.scan_step_m", "plane search only");
+  expect_error(std::string(kPathTask) + "controller: {scan_step_m: 0.005}\n", 7,
+               "controller.scan_step_m", "at least 0.01 m");
   expect_error(std::string(kSortingTask) + "controller: {scan_step_m: 0.001}\n", 10,
                "controller.scan_step_m", "at least 0.01 m");
   expect_error(std::string(kSortingTask) + "controller: {predict_transition: maybe}\n", 10,
