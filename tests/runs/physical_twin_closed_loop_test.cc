@@ -78,8 +78,7 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
   Scenario line = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/line.yaml");
   line.controller = CemParameters::line_defaults();
   // Two seeds pin the pipeline's regressions; scripts/acceptance.sh holds the ten-seed floor.
-  // With static friction that holds (2026-11-27) seeds 1-10 succeed 3 times (seeds 2, 4 and 5;
-  // 27 of 40 paths with the friction that leaked, docs/twin.md) and two meet the bounds below
+  // Seeds 1-10 succeed 3 times (seeds 2, 4 and 5; docs/twin.md) and two meet the bounds below
   // (5 takes 85 s): seeds 2 and 4.
   for (const uint64_t seed : {2, 4}) {
     ScenarioRunOptions options;

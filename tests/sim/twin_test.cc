@@ -161,8 +161,8 @@ TEST_F(TwinTest, StaticFrictionHoldsWhatKineticFrictionWouldNot) {
 TEST_F(TwinTest, StaticFrictionHoldsUpToMuSAndNoFurther) {
   // A tracer in steady air whose pull at rest, m x2 u (the twin's own drag, sim/scene_spec.h), is
   // 1.1 x kinetic friction; static friction set 5 % above and 5 % below the pull. Above it,
-  // Coulomb's law holds the tracer for good (a hold that faded with speed let MuJoCo's creep
-  // start such tracers within a second, 22-27 cm); below it, the tracer slides.
+  // Coulomb's law holds the tracer for good, without the creep of MuJoCo's soft contacts; below
+  // it, the tracer slides.
   const OrientedField field = field_model().at({0.0, 0.0});
   const double kinetic = -kTracerTwinPhysics.xi3;  // mu_k g (m/s^2)
   double r = 0.2;
