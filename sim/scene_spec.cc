@@ -36,6 +36,7 @@ ObjectTypeParameters ObjectTypeParameters::tracer() {
   p.drag_length_m = p.diameter_m;
   // Expanded polystyrene sliding on a smooth hard floor: 0.3-0.5; 0.35 to start.
   p.physical_kinetic_friction = 0.35;
+  p.physical_static_friction_ratio = 1.2;  // foam on a hard floor
   // Lift of a hemisphere on a floor on its footprint pi r^2: 0.69 in potential flow with the
   // free-stream pressure under the base (the suction over the dome); separation behind it takes
   // some of that away. 0.3 to start, a calibration parameter within [0, 0.69].
@@ -56,6 +57,7 @@ ObjectTypeParameters ObjectTypeParameters::cotton() {
   p.drag_length_m = p.diameter_m;
   // Cotton fibres on a smooth hard floor: 0.3-0.6; 0.4 to start.
   p.physical_kinetic_friction = 0.4;
+  p.physical_static_friction_ratio = 1.3;  // fibres on a hard floor
   // A porous wad: air passes through and under it, so little suction builds over it; 0.1 to
   // start, within [0, 0.3].
   p.lift_coefficient = 0.1;
@@ -65,6 +67,7 @@ ObjectTypeParameters ObjectTypeParameters::cotton() {
 void ObjectTypeParameters::use_physical_drag() {
   drag_law = DragLaw::kPhysical;
   kinetic_friction = physical_kinetic_friction;
+  static_friction_ratio = physical_static_friction_ratio;
 }
 
 ObjectDynamics ObjectTypeParameters::dynamics(double gravity_mps2) const {

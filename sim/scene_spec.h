@@ -28,9 +28,8 @@ namespace airtwin {
 /// The twin's physics triples (x1, x2, x3): drag rate c/m = -x1, air gain k = x2 / -x1, kinetic
 /// friction mu_k = -x3 / g. Calibrated (airtwin calibrate-dynamics, docs/twin.md) so that the
 /// paper's identification on Appendix D data collected in the twin returns the paper's eq. (8)
-/// coefficients (kTracerDynamics, kCottonDynamics): turbulence, the soft contacts and static
-/// friction make SINDy see a weaker drag than the physics has (the tracer's -2.98 1/s reads as
-/// -2.66).
+/// coefficients (kTracerDynamics, kCottonDynamics): turbulence and the soft contacts make SINDy
+/// see a weaker drag than the physics has (the tracer's -2.98 1/s reads as -2.66).
 inline constexpr ObjectDynamics kTracerTwinPhysics{-2.982, 4.415, -8.789};
 inline constexpr ObjectDynamics kCottonTwinPhysics{-4.455, 3.616, -4.270};
 
@@ -88,10 +87,14 @@ struct ObjectTypeParameters {
   double drag_length_m = 0.0;     ///< L of Re (m)
   /// mu_k with physical drag: a measured-kind value, not eq. (8)'s -xi3 / g.
   double physical_kinetic_friction = 0.0;
+  /// Static / kinetic friction ratio under DragLaw::kPhysical (eq. (8)'s law has none: its xi3
+  /// is one friction fitted on data that include the starts).
+  double physical_static_friction_ratio = 1.0;
   /// C_L of the physical law's lift, on the footprint area pi (diameter / 2)^2 (dimensionless).
   double lift_coefficient = 0.0;
 
-  /// Switches to DragLaw::kPhysical and its friction (physical_kinetic_friction).
+  /// Switches to DragLaw::kPhysical and its friction (physical_kinetic_friction,
+  /// physical_static_friction_ratio).
   void use_physical_drag();
 
   /// The mapping of eq. (8) to drag and friction described in the header comment, for a body of
