@@ -129,6 +129,19 @@ TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
   }
 }
 
+// A tracer at (r_m, 0) in the steady air of the nozzle at (0, 0), under eq. (8)'s deterministic
+// drag with the given static / kinetic friction ratio.
+Twin tracer_in_steady_air(double r_m, double static_friction_ratio) {
+  TwinParameters p = eq8_parameters();
+  p.scene.tracer.static_friction_ratio = static_friction_ratio;
+  p.jet_on_at_start = true;
+  SceneSpec spec;
+  spec.objects = {{"t", "tracer", {r_m, 0.0}, 0.0}};
+  Twin twin(spec, p, field_model(), 3);
+  twin.settle_jet();
+  return twin;
+}
+
 TEST_F(TwinTest, StaticFrictionHoldsWhatKineticFrictionWouldNot) {
   // A point where the drive of eq. (8) is positive (the model says: moves) but below the static
   // friction: xi2 u + xi3 in (0, (mu_s/mu_k - 1) |xi3|).
@@ -141,13 +154,7 @@ TEST_F(TwinTest, StaticFrictionHoldsWhatKineticFrictionWouldNot) {
   ASSERT_GT(kTracerDynamics.drive(field.speed({r, 0.0})), 0.0);
   double moved[2];
   for (int sticky = 0; sticky < 2; ++sticky) {
-    TwinParameters p = eq8_parameters();
-    p.scene.tracer.static_friction_ratio = sticky ? 1.2 : 1.0;
-    p.jet_on_at_start = true;
-    SceneSpec spec;
-    spec.objects = {{"t", "tracer", {r, 0.0}, 0.0}};
-    Twin twin(spec, p, field_model(), 3);
-    twin.settle_jet();
+    Twin twin = tracer_in_steady_air(r, sticky ? 1.2 : 1.0);
     const Eigen::Vector2d p0 = twin.object_state(0).p_W;
     twin.advance(1.0);
     moved[sticky] = (twin.object_state(0).p_W - p0).norm();
@@ -170,13 +177,7 @@ TEST_F(TwinTest, StaticFrictionHoldsUpToMuSAndNoFurther) {
   ASSERT_LT(r, 1.5);
   const double pull = kTracerTwinPhysics.xi2 * field.speed({r, 0.0});  // per unit mass
   for (const double margin : {1.05, 0.95}) {
-    TwinParameters p = eq8_parameters();
-    p.scene.tracer.static_friction_ratio = margin * pull / kinetic;
-    p.jet_on_at_start = true;
-    SceneSpec spec;
-    spec.objects = {{"t", "tracer", {r, 0.0}, 0.0}};
-    Twin twin(spec, p, field_model(), 3);
-    twin.settle_jet();
+    Twin twin = tracer_in_steady_air(r, margin * pull / kinetic);
     const Eigen::Vector2d p0 = twin.object_state(0).p_W;
     twin.advance(5.0);
     const double moved = (twin.object_state(0).p_W - p0).norm();
