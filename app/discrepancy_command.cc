@@ -22,7 +22,7 @@ namespace airtwin::cli {
 namespace {
 
 struct DiscrepancyArgs {
-  std::string data;
+  std::vector<std::string> data;
   std::vector<std::string> models;
   std::string table;
   double holdout = 0.3;
@@ -52,7 +52,12 @@ void run(const DiscrepancyArgs& a) {
               {"discrepancy.prior_command", "--prior-command"}},
              [&] { options.validate(); });
 
-  const TrajectorySet set = read_trajectory_csv(a.data);
+  std::vector<TrajectorySet> sets;
+  for (const std::string& path : a.data) sets.push_back(read_trajectory_csv(path));
+  const TrajectorySet set = merge_trajectory_sets(std::move(sets));
+  const std::string source = a.data.size() == 1 ? a.data.front()
+                                                : std::to_string(a.data.size()) + " files, " +
+                                                      a.data.front() + " to " + a.data.back();
   const AirFieldModel field =
       a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
   // The nominal dynamics: the paper's, replaced per object type by the models given.
@@ -71,14 +76,14 @@ void run(const DiscrepancyArgs& a) {
     };
   }
   DiscrepancyReport report = analyse_discrepancy(set, field, objects, options);
-  report.source = a.data;
+  report.source = source;
 
   ExtendedModel extended;
   extended.objects = objects;
   extended.nozzle = options.nozzle;
   extended.extensions = report.extensions;
   extended.table = a.table;
-  extended.source = a.data;
+  extended.source = source;
   std::filesystem::create_directories(a.out);
   write_text_file(a.out + "/report.json", discrepancy_report_json(report));
   write_text_file(a.out + "/report.md", discrepancy_report_markdown(report));
@@ -107,14 +112,16 @@ void add_discrepancy_command(CLI::App& app) {
   auto args = std::make_shared<DiscrepancyArgs>();
   CLI::App* sub = app.add_subcommand(
       "discrepancy",
-      "Find what the model gets wrong in measured trajectories (Appendix D recordings or a\n"
-      "closed-loop log): baseline errors and residual structure, a catalogue of physical causes\n"
+      "Find what the model gets wrong in measured trajectories (Appendix D recordings or\n"
+      "closed-loop logs): baseline errors and residual structure, a catalogue of physical causes\n"
       "fitted on a training split and tested on held-out data, and the extended model with the\n"
       "causes found, and whether what is left is still structured (a nonparametric correction).\n"
       "Writes report.json, report.md, extended_model.json, residual plots and, with a\n"
       "correction, correction.csv and residual_correction.png.\n"
       "docs/discrepancy.md.");
-  sub->add_option("data", args->data, "Trajectory CSV (traj,object,t,x,y,pan_deg,tilt_deg)")
+  sub->add_option("data", args->data,
+                  "Trajectory CSV (traj,object,t,x,y,pan_deg,tilt_deg), or several (e.g. a\n"
+                  "batch's logs): trajectory ids then become FILE_INDEX:ID, 1-based")
       ->required();
   sub->add_option("--model", args->models,
                   "model.json from 'airtwin identify' (repeatable, one per object type); default:\n"

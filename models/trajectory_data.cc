@@ -85,4 +85,17 @@ std::string trajectory_csv(const TrajectorySet& set) {
   return out;
 }
 
+TrajectorySet merge_trajectory_sets(std::vector<TrajectorySet> sets) {
+  if (sets.size() == 1) return std::move(sets.front());
+  TrajectorySet merged;
+  for (size_t k = 0; k < sets.size(); ++k) {
+    merged.has_group = merged.has_group || sets[k].has_group;
+    for (Trajectory& t : sets[k].trajectories) {
+      t.id = std::to_string(k + 1) + ":" + t.id;
+      merged.trajectories.push_back(std::move(t));
+    }
+  }
+  return merged;
+}
+
 }  // namespace airtwin

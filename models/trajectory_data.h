@@ -51,4 +51,9 @@ TrajectorySet parse_trajectory_csv(
 /// The CSV text of a set, rows grouped by trajectory (deterministic: same set, same bytes).
 std::string trajectory_csv(const TrajectorySet& set);
 
+/// Several files' sets as one, in order. With more than one set every trajectory id becomes
+/// "<k>:<id>", k the set's 1-based position, so that logs written alike (each closed-loop run calls
+/// its tracer t1) stay apart; one set is returned as it is. has_group if any set has groups.
+TrajectorySet merge_trajectory_sets(std::vector<TrajectorySet> sets);
+
 }  // namespace airtwin

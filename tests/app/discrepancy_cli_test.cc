@@ -497,6 +497,11 @@ TEST(DiscrepancyCli, SaysWhatCannotBeDecided) {
   EXPECT_NE(notes.find("usable windows"), std::string::npos) << notes;
   EXPECT_NE(notes.find("response_delay cannot be decided"), std::string::npos) << notes;
   EXPECT_NE(read_file(dir + "/out/report.md").find("Nothing can be decided"), std::string::npos);
+
+  // The same file given twice is read as two files whose trajectories stay apart.
+  const json twice = analyse(dir + "/d.csv " + dir + "/d.csv", dir + "/out2");
+  EXPECT_EQ(twice["n_trajectories"].get<int>(), 2 * r["n_trajectories"].get<int>());
+  EXPECT_EQ(twice["source"].get<std::string>().rfind("2 files, ", 0), 0u) << twice["source"];
 }
 
 TEST(DiscrepancyCli, RejectsBadInput) {
@@ -504,6 +509,12 @@ TEST(DiscrepancyCli, RejectsBadInput) {
   testing::CliResult r = run_airtwin("discrepancy " + dir + "/missing.csv --out " + dir + "/o");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("missing.csv"), std::string::npos) << r.err;
+  // A bad second file is named as well.
+  ASSERT_EQ(run_airtwin("collect --per-tilt 1 --quiet --seed 5 --out " + dir + "/d.csv").exit_code,
+            0);
+  r = run_airtwin("discrepancy " + dir + "/d.csv " + dir + "/gone.csv --out " + dir + "/o");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("gone.csv"), std::string::npos) << r.err;
   r = run_airtwin("discrepancy x.csv --holdout 0.95 --out " + dir + "/o");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--holdout"), std::string::npos) << r.err;

@@ -48,6 +48,36 @@ TEST(TrajectoryData, RoundTripKeepsEverything) {
   EXPECT_EQ(trajectory_csv(s), text);
 }
 
+TEST(TrajectoryData, MergedFilesKeepTheirTrajectoriesApart) {
+  // Two closed-loop logs that both call their tracer t1.
+  const std::string a = std::string(kHeader) +
+                        "t1,tracer,0,0.1,0.2,90,22.5\n"
+                        "t1,tracer,0.025,0.11,0.2,90,22.5\n";
+  const std::string b =
+      "traj,object,t,x,y,pan_deg,tilt_deg,group\n"
+      "t1,tracer,0,-0.3,0.4,10,15,line\n"
+      "c,cotton,0,0.5,0.4,10,15,line\n";
+  const TrajectorySet one = merge_trajectory_sets({parse_trajectory_csv(a, "a.csv")});
+  EXPECT_EQ(trajectory_csv(one), trajectory_csv(parse_trajectory_csv(a, "a.csv")));  // as it was
+
+  const TrajectorySet m =
+      merge_trajectory_sets({parse_trajectory_csv(a, "a.csv"), parse_trajectory_csv(b, "b.csv")});
+  ASSERT_EQ(m.trajectories.size(), 3u);
+  EXPECT_EQ(m.trajectories[0].id, "1:t1");
+  EXPECT_EQ(m.trajectories[1].id, "2:t1");
+  EXPECT_EQ(m.trajectories[2].id, "2:c");
+  EXPECT_EQ(m.trajectories[0].samples.size(), 2u);
+  EXPECT_EQ(m.trajectories[1].samples.front().p_W, Eigen::Vector2d(-0.3, 0.4));
+  EXPECT_EQ(m.trajectories[2].object, "cotton");
+  EXPECT_TRUE(m.has_group);
+  EXPECT_EQ(m.trajectories[0].group, "");
+  EXPECT_EQ(m.trajectories[1].group, "line");
+  // The merged set reads back as one file with the same trajectories.
+  const TrajectorySet back = parse_trajectory_csv(trajectory_csv(m), "m.csv");
+  ASSERT_EQ(back.trajectories.size(), 3u);
+  EXPECT_EQ(back.trajectories[1].id, "2:t1");
+}
+
 TEST(TrajectoryData, ErrorsNameFileLineAndColumn) {
   const std::string h = kHeader;
   EXPECT_NE(error_of("").find("d.csv: empty file"), std::string::npos);
