@@ -4,36 +4,53 @@
 # identified from it in the CFD-fitted field model; then the path scenarios and the octagon with
 # the paper's own CEM settings (section V-B/C: the scenario files' retuned Sigma0 put back to
 # 20.9 cm^2), seeds 1..N, planning with that model. Ends with the batch report (success rates,
-# median times and path errors) to set beside Table I.
-# Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--physics TYPE:k=v,...]
+# median times and path errors) to set beside Table I. With --discrepancy, then what a rig's user
+# does next: the closed-loop logs of other seeds analysed (`airtwin discrepancy`), and the same
+# batch again planning with the extended model.
+# Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--first-seed F] [--discrepancy]
+#        [--physics TYPE:k=v,...]
 #        [--no-formation | --formation-time-scale X] [--still-front] [--model FILE]
-#        [--multi] [--cotton-physics cotton:k=v,...] [--airtwin PATH] [--out DIR]
+#        [--multi] [--cotton-physics cotton:k=v,...] [--settings paper|files|files-no-scan]
+#        [--airtwin PATH] [--out DIR]
 #   --no-formation  each object gets the reached orientation's whole air at once (airtwin's
 #                --no-air-formation; by default the air forms, at half the CFD pulses' times)
 #   --formation-time-scale X  the formation's times: the pulses' times X (airtwin's
 #                --air-formation-time-scale; default 0.5)
 #   --still-front  the new wall jet's front as in still air (airtwin's --air-front-co-flow 0;
 #                by default it is carried by the old air)
+#   --first-seed F  the batches' seeds are F..F+N-1 (default 1)
+#   --discrepancy  after the batch: the line, the square and the letter A run at the calibration
+#                seeds 101-105 with the identified model, logs kept; `airtwin discrepancy` on the
+#                15 logs; the batch again (the same seeds, the octagon included) planning with its
+#                extended model (OUT/discrepancy/, OUT/batch_extended/)
 #   --model FILE plan with this identified model instead of collecting and identifying one
 #   --multi      also the multi-object tasks: the aggregation with the scenario file's settings
 #                and with the paper's (mu0 41.8 cm, Sigma0 20.9 cm^2), and the sorting, its
 #                cotton wads collected and identified as the tracer is (seed 202)
 #   --cotton-physics  the wads' physical parameters (default: the calibration's best in the
 #                CFD air, docs/twin.md)
+#   --settings   the path scenarios' CEM: the paper's (default), the scenario files' as shipped
+#                (Sigma0 retuned, the floor scanned when the line search is blind), or the
+#                files' without the scan
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seeds=10
+first_seed=1
+discrepancy=0
 physics="tracer:cd=0.35,mu_k=0.4,mu_s_ratio=1.4,cl=0.2"
 airtwin=build/airtwin
 out=results/physical_twin_closed_loop
 formation=()
 model=""
 multi=0
+settings=paper
 cotton_physics="cotton:cd=0.9,mu_k=0.45,mu_s_ratio=1.3,cl=0.2"
 while [ $# -gt 0 ]; do
   case "$1" in
     --seeds) seeds="$2"; shift 2 ;;
+    --first-seed) first_seed="$2"; shift 2 ;;
+    --discrepancy) discrepancy=1; shift ;;
     --no-formation) formation+=(--no-air-formation); shift ;;
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
     --still-front) formation+=(--air-front-co-flow 0); shift ;;
@@ -41,18 +58,26 @@ while [ $# -gt 0 ]; do
     --physics) physics="$2"; shift 2 ;;
     --multi) multi=1; shift ;;
     --cotton-physics) cotton_physics="$2"; shift 2 ;;
+    --settings) settings="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
+case "$settings" in
+  paper) strip=(-e '^  variance0_m2:' -e '^  scan_step_m:') ;;
+  files) strip=() ;;
+  files-no-scan) strip=(-e '^  scan_step_m:') ;;
+  *) echo "physical_twin_closed_loop.sh: --settings: '$settings' is not paper, files or files-no-scan" >&2; exit 2 ;;
+esac
 [ -x "$airtwin" ] || { echo "physical_twin_closed_loop.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
 
 table=models/data/cfd_fitted_field_model.json
 twin=(--air cfd --drag physical --object-physics "$physics" "${formation[@]}")
 mkdir -p "$out/scenes"
-rm -rf "$out/batch" "$out/batch_multi"
+rm -rf "$out/batch" "$out/batch_multi" "$out/discrepancy_runs" "$out/discrepancy" \
+  "$out/batch_extended"
 
 # Appendix D in the twin (collection seed 202) and eq. (8)'s terms identified from it.
 if [ -n "$model" ]; then
@@ -67,14 +92,32 @@ fi
 
 # The paper's CEM settings: the files differ from the code's defaults (the paper's) only where
 # they retune Sigma0 for the mirror twin and scan the floor when the line search is blind; the
-# octagon already uses the defaults.
+# octagon already uses the defaults. --settings keeps the files' lines, or all but the scan.
 for name in line square letter_A octagon; do
-  grep -v -e '^  variance0_m2:' -e '^  scan_step_m:' "scenes/$name.yaml" > "$out/scenes/$name.yaml"
+  if [ ${#strip[@]} -eq 0 ]; then
+    cp "scenes/$name.yaml" "$out/scenes/$name.yaml"
+  else
+    grep -v "${strip[@]}" "scenes/$name.yaml" > "$out/scenes/$name.yaml"
+  fi
 done
 
-"$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml --seeds "$seeds" --quiet \
+seed_range=(--seeds "$seeds" --first-seed "$first_seed")
+"$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml "${seed_range[@]}" --quiet \
   "${twin[@]}" --table "$table" --model "$out/tracer_model.json" --out "$out/batch"
 cat "$out/batch/report.md"
+
+if [ "$discrepancy" = 1 ]; then
+  # The closed-loop logs of calibration seeds (not the batch's), analysed as a rig's would be.
+  "$airtwin" batch "$out"/scenes/{line,square,letter_A}.yaml --seeds 5 --first-seed 101 --logs \
+    --quiet "${twin[@]}" --table "$table" --model "$out/tracer_model.json" \
+    --out "$out/discrepancy_runs" > /dev/null
+  "$airtwin" discrepancy "$out"/discrepancy_runs/runs/*/seed-*.log.csv --quiet --table "$table" \
+    --model "$out/tracer_model.json" --out "$out/discrepancy"
+  "$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml "${seed_range[@]}" --quiet \
+    "${twin[@]}" --table "$table" --model "$out/discrepancy/extended_model.json" \
+    --out "$out/batch_extended"
+  cat "$out/batch_extended/report.md"
+fi
 
 [ "$multi" = 1 ] || exit 0
 
@@ -91,7 +134,7 @@ cp scenes/aggregation.yaml "$out/scenes/aggregation.yaml"
 grep -v '^  mean0_m:\|^  variance0_m2:' scenes/aggregation.yaml |
   sed 's/^name: aggregation$/name: aggregation_paper/' > "$out/scenes/aggregation_paper.yaml"
 cp scenes/sorting.yaml "$out/scenes/sorting.yaml"
-"$airtwin" batch "$out"/scenes/{aggregation,aggregation_paper,sorting}.yaml --seeds "$seeds" \
+"$airtwin" batch "$out"/scenes/{aggregation,aggregation_paper,sorting}.yaml "${seed_range[@]}" \
   --quiet "${twin[@]}" --table "$table" --model "$out/tracer_model.json" \
   --model "$out/cotton_model.json" --out "$out/batch_multi"
 cat "$out/batch_multi/report.md"
