@@ -509,7 +509,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
         parameter_intervals(ev, train, sel.base, sel.chosen, sel.current, o.seed);
     for (size_t n = 0; n < sel.chosen.size(); ++n) {
       for (const ParameterInterval& p : iv[n]) {
-        report.intervals[sel.chosen[n]].push_back({p.lo, p.hi});
+        report.intervals[sel.chosen[n]].push_back({p.lo, p.hi, p.resolution});
       }
     }
   }

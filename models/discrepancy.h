@@ -189,6 +189,7 @@ struct ResidualCorrection {
 /// A 95 % bootstrap interval of a fitted parameter.
 struct ParameterRange {
   double lo = NAN, hi = NAN;
+  double resolution = NAN;  ///< the fit's finest step: the interval is never narrower
 };
 
 struct DiscrepancyReport {

@@ -208,15 +208,31 @@ int refine_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
   return functor.evaluations;
 }
 
-int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
-               const std::vector<std::string>& names, int max_iterations, Fidelity fidelity,
-               std::vector<double>* x) {
+namespace {
+
+// Per fit coordinate of `names`, the compass's first step: half the grid's pitch.
+std::vector<double> first_steps(const std::vector<std::string>& names) {
   std::vector<double> step;
   for (const std::string& name : names) {
     for (const std::vector<double>& axis : fit_grid(name)) {
       step.push_back(axis.size() > 1 ? 0.5 * (axis[1] - axis[0]) : 0.0);
     }
   }
+  return step;
+}
+
+}  // namespace
+
+std::vector<double> fit_finest_steps(const std::vector<std::string>& names) {
+  std::vector<double> step = first_steps(names);
+  for (double& h : step) h = std::ldexp(h, 1 - kCompassLevels);
+  return step;
+}
+
+int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const ModelExtensions& base,
+               const std::vector<std::string>& names, int max_iterations, Fidelity fidelity,
+               std::vector<double>* x) {
+  std::vector<double> step = first_steps(names);
   AIRTWIN_DEMAND(step.size() == x->size());
   std::vector<WindowScore> scores;
   int evaluations = 0;

@@ -51,6 +51,10 @@ int polish_fit(const Evaluator& ev, const std::vector<size_t>& train, const Mode
                const std::vector<std::string>& names, int max_iterations, Fidelity fidelity,
                std::vector<double>* x);
 
+// Per fit coordinate of `names` (concatenated), the compass's finest step: a sixteenth of the
+// coordinate's grid pitch, the resolution of every fit and refit.
+std::vector<double> fit_finest_steps(const std::vector<std::string>& names);
+
 // The ordinary static friction, a nuisance of every fit.
 // Every dry contact holds somewhat above its kinetic friction (static / kinetic 1-1.3), which
 // eq. (8)'s start condition (xi2 v_air + xi3 > 0) ignores. Which objects start carries much of the

@@ -267,11 +267,22 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
       if (it != r.intervals.end()) {
         const EffectSpec& spec = find_effect(f);
         md += " 95 % bootstrap intervals:";
+        bool at_resolution = false;
         for (size_t i = 0; i < it->second.size(); ++i) {
-          md += std::string(i == 0 ? " " : ", ") + spec.params[i].key + " " +
-                fixed(it->second[i].lo, 3) + " to " + fixed(it->second[i].hi, 3);
+          const ParameterRange& iv = it->second[i];
+          md += std::string(i == 0 ? " " : ", ") + spec.params[i].key + " " + fixed(iv.lo, 3) +
+                " to " + fixed(iv.hi, 3);
+          if (iv.hi - iv.lo <= iv.resolution * (1 + 1e-9)) {
+            md += "*";
+            at_resolution = true;
+          }
         }
         md += ".";
+        if (at_resolution) {
+          md +=
+              " (*: every resample refitted within the fit's finest step; the interval is that "
+              "resolution.)";
+        }
       }
       md += "\n";
     }

@@ -110,12 +110,33 @@ std::vector<std::vector<ParameterInterval>> parameter_intervals(
       }
     }
   }
+  // The fit's resolution in each typed parameter: the largest change one finest compass step of
+  // any fit coordinate makes to it at the fitted values.
+  const std::vector<double> finest = fit_finest_steps(names);
+  std::vector<std::vector<double>> resolution(names.size());
+  for (size_t n = 0; n < names.size(); ++n) resolution[n].assign(centre[n].size(), 0.0);
+  for (size_t i = 0; i < x_hat.size(); ++i) {
+    std::vector<double> x = x_hat;
+    x[i] += finest[i];
+    const std::vector<std::vector<double>> t = typed(x);
+    for (size_t n = 0; n < names.size(); ++n) {
+      for (size_t p = 0; p < t[n].size(); ++p) {
+        resolution[n][p] = std::max(resolution[n][p],
+                                    std::abs(typed_difference(names[n], p, t[n][p], centre[n][p])));
+      }
+    }
+  }
   std::vector<std::vector<ParameterInterval>> out(names.size());
   for (size_t n = 0; n < names.size(); ++n) {
     for (size_t p = 0; p < spread[n].size(); ++p) {
       std::vector<double>& d = spread[n][p];
       std::sort(d.begin(), d.end());
-      out[n].push_back({centre[n][p] + quantile(d, 0.025), centre[n][p] + quantile(d, 0.975)});
+      const double c = centre[n][p], half = 0.5 * resolution[n][p];
+      ParameterInterval iv{c + quantile(d, 0.025), c + quantile(d, 0.975), resolution[n][p]};
+      // No finer than the fit can tell: at least the fitted value +- half a finest step.
+      iv.lo = std::min(iv.lo, c - half);
+      iv.hi = std::max(iv.hi, c + half);
+      out[n].push_back(iv);
     }
   }
   return out;

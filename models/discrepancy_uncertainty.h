@@ -14,7 +14,9 @@
 //   friction held. The 2.5 and 97.5 % quantiles of the refits' differences from the same
 //   refit on the windows as they are, added to the fitted value, give the 95 % interval of each
 //   typed parameter (a percentile interval, centred on the fit at the full step so that the
-//   screening step's bias cancels; directions wrapped).
+//   screening step's bias cancels; directions wrapped). An interval never claims more than the
+//   fit can tell: it covers at least the fitted value +- half the finest step (when every
+//   refit lands on the same point, the resamples agree within that resolution).
 
 #include <cstdint>
 #include <string>
@@ -47,6 +49,7 @@ std::vector<double> selection_frequencies(const WindowFigures& base,
 
 struct ParameterInterval {
   double lo = 0.0, hi = 0.0;
+  double resolution = 0.0;  ///< the fit's finest step in this parameter
 };
 
 // For each name in `names` (fitted together in `fitted`, on top of `base`), the interval of each
