@@ -22,7 +22,9 @@
 #   --discrepancy  after the batch: the line, the square and the letter A run at the calibration
 #                seeds 101-105 with the identified model, logs kept; `airtwin discrepancy` on the
 #                15 logs; the batch again (the same seeds, the octagon included) planning with its
-#                extended model (OUT/discrepancy/, OUT/batch_extended/)
+#                extended model (OUT/discrepancy/, OUT/batch_extended/); with --multi also
+#                the aggregations planned with it, and the sorting with the extended model
+#                of its own logs (seeds 101-105; OUT/sorting_discrepancy/)
 #   --model FILE plan with this identified model instead of collecting and identifying one
 #   --multi      also the multi-object tasks: the aggregation with the scenario file's settings
 #                and with the paper's (mu0 41.8 cm, Sigma0 20.9 cm^2), and the sorting, its
@@ -61,7 +63,7 @@ while [ $# -gt 0 ]; do
     --settings) settings="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,36p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -77,7 +79,8 @@ table=models/data/cfd_fitted_field_model.json
 twin=(--air cfd --drag physical --object-physics "$physics" "${formation[@]}")
 mkdir -p "$out/scenes"
 rm -rf "$out/batch" "$out/batch_multi" "$out/discrepancy_runs" "$out/discrepancy" \
-  "$out/batch_extended"
+  "$out/batch_extended" "$out/batch_multi_extended" "$out/sorting_discrepancy_runs" \
+  "$out/sorting_discrepancy" "$out/batch_sorting_extended"
 
 # Appendix D in the twin (collection seed 202) and eq. (8)'s terms identified from it.
 if [ -n "$model" ]; then
@@ -138,3 +141,22 @@ cp scenes/sorting.yaml "$out/scenes/sorting.yaml"
   --quiet "${twin[@]}" --table "$table" --model "$out/tracer_model.json" \
   --model "$out/cotton_model.json" --out "$out/batch_multi"
 cat "$out/batch_multi/report.md"
+
+[ "$discrepancy" = 1 ] || exit 0
+# The same for the multi-object tasks: the aggregations planned with the paths' extended model
+# (the wads' model given after it); the sorting's own logs (seeds 101-105, tracers and wads)
+# analysed with both types' models, and the sorting planned with that extended model.
+"$airtwin" batch "$out"/scenes/{aggregation,aggregation_paper}.yaml "${seed_range[@]}" --quiet \
+  "${twin[@]}" --table "$table" --model "$out/discrepancy/extended_model.json" \
+  --model "$out/cotton_model.json" --out "$out/batch_multi_extended"
+cat "$out/batch_multi_extended/report.md"
+"$airtwin" batch "$out/scenes/sorting.yaml" --seeds 5 --first-seed 101 --logs --quiet \
+  "${twin[@]}" --table "$table" --model "$out/tracer_model.json" --model "$out/cotton_model.json" \
+  --out "$out/sorting_discrepancy_runs" > /dev/null
+"$airtwin" discrepancy "$out"/sorting_discrepancy_runs/runs/sorting/seed-*.log.csv --quiet \
+  --table "$table" --model "$out/tracer_model.json" --model "$out/cotton_model.json" \
+  --out "$out/sorting_discrepancy"
+"$airtwin" batch "$out/scenes/sorting.yaml" "${seed_range[@]}" --quiet "${twin[@]}" \
+  --table "$table" --model "$out/sorting_discrepancy/extended_model.json" \
+  --out "$out/batch_sorting_extended"
+cat "$out/batch_sorting_extended/report.md"
