@@ -100,7 +100,14 @@ void run(const DiscrepancyArgs& a) {
   } else if (report.found.empty()) {
     found = "none";
   }
-  for (const std::string& f : report.found) found += (found.empty() ? "" : ", ") + f;
+  for (const std::string& f : report.found) {
+    found += (found.empty() ? "" : ", ") + f;
+    std::string rivals;
+    for (const Rival& v : report.rivals) {
+      if (v.cause == f) rivals += (rivals.empty() ? "" : " or ") + v.rival;
+    }
+    if (!rivals.empty()) found += " (the held-out data cannot tell it from " + rivals + ")";
+  }
   std::printf("found: %s; held-out end MAPE %.1f %% -> %.1f %%%s; report in %s/report.md\n",
               found.c_str(), report.baseline_end_mape, report.extended_end_mape,
               report.unexplained ? "; unexplained structure left" : "", a.out.c_str());

@@ -470,6 +470,16 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
       continue;
     }
     say("found " + best->name);
+    // The round's other causes that the held-out windows cannot tell from it.
+    const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
+    for (size_t i = 0; i < results.size(); ++i) {
+      const CandidateResult& c = results[i];
+      if (&c == best || !c.significant) continue;
+      const double p = p_chosen_beats_rival(best_figures, figures[i], windows);
+      if (p < o.alpha) continue;
+      report.rivals.push_back(
+          {best->name, c.name, c.params, p, best->delta_bic, c.delta_bic, best->gain, c.gain});
+    }
     entered[best->name] = static_cast<size_t>(round);
     add_cause(ev, train, held, *best, o, &sel);
     if (provisional) {
@@ -495,6 +505,14 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   report.exchanges = exchange_check(ev, train, held, windows, rule, o, say, report.rounds, entered,
                                     &sel, &report.backward);
   report.found = sel.chosen;
+  // Rivals of causes the backward or exchange check took out, or that became causes, go.
+  auto is_found = [&](const std::string& n) {
+    return std::find(report.found.begin(), report.found.end(), n) != report.found.end();
+  };
+  report.rivals.erase(
+      std::remove_if(report.rivals.begin(), report.rivals.end(),
+                     [&](const Rival& r) { return !is_found(r.cause) || is_found(r.rival); }),
+      report.rivals.end());
   // The extended model is the causes found, without the nuisance: scored as written. (No
   // nuisance when stiction is a cause: the ratio is then that cause's parameter.)
   const bool stiction_found =
@@ -535,6 +553,7 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
         " scales): withdrawn, not reported as causes.");
     report.withdrawn = report.found;
     report.found.clear();
+    report.rivals.clear();
     report.intervals.clear();
     report.extensions = ModelExtensions{};
     report.extended_end_mape = report.baseline_end_mape;

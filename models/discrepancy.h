@@ -40,7 +40,10 @@
 //    if the next round finds a cause on top of it, the backward check keeps it, and the causes
 //    together beat the model before it on the held-out windows. Last, each cause is exchanged for
 //    the rivals that passed in its round, the later causes in the model: a cause that only mimicked
-//    another gives way when that lowers the held-out cost. Every fit, and the base of every round,
+//    another gives way when that lowers the held-out cost. A rival the held-out windows cannot
+//    tell from a cause found (the cause's path errors not lower by the signed-rank test at
+//    alpha) is reported beside it: either explains the data, and the training windows' BIC
+//    made the choice. Every fit, and the base of every round,
 //    carries an ordinary static friction (static / kinetic in [1, 1.3]) as a nuisance: eq. (8)'s
 //    start condition ignores it, and left out it bends the parameters of any cause that changes
 //    which objects start (a slope, a push, a nozzle offset). It is reported and left out of the
@@ -147,6 +150,16 @@ struct Exchange {
   bool accepted = false;
 };
 
+/// A candidate that passed the rule in the round where a cause was chosen (by its lower delta
+/// BIC), and that the held-out windows cannot tell from that cause: either explains the data.
+struct Rival {
+  std::string cause, rival;
+  std::vector<double> params;  ///< the rival's fit in that round, typed, catalogue order
+  double p_value = 1.0;  ///< one-sided signed-rank: the cause's held-out path errors the lower
+  double cause_delta_bic = 0.0, rival_delta_bic = 0.0;  ///< training, against the round's base
+  double cause_gain = 0.0, rival_gain = 0.0;            ///< held-out path error gain
+};
+
 /// A bin of residuals (cm): the mean along the radial direction from s, across it (positive
 /// counter-clockwise) and of the error's length.
 struct ResidualBin {
@@ -216,6 +229,8 @@ struct DiscrepancyReport {
   std::vector<BackwardCheck> backward;
   /// The exchange check after the backward check (two or more causes found).
   std::vector<Exchange> exchanges;
+  /// The found causes' rivals the held-out windows cannot tell from them (p at or above alpha).
+  std::vector<Rival> rivals;
   /// Candidates that entered provisionally (no cause in their round, but the training windows'
   /// support): effects can mask each other until one is modelled (docs/discrepancy.md).
   std::vector<std::string> provisional;

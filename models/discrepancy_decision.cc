@@ -47,6 +47,13 @@ Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k
   return d;
 }
 
+double p_chosen_beats_rival(const WindowFigures& chosen, const WindowFigures& rival,
+                            const DecisionWindows& windows) {
+  // The rival as the base and the chosen cause as the candidate: the test that the candidate's
+  // path errors are the lower ones. The rule's thresholds play no part in the p-value.
+  return decide(rival, chosen, 0, true, windows, DecisionRule{}).p_value;
+}
+
 DecisionWindows all_windows(size_t n_train, size_t n_held, const std::vector<double>& held_scale_m,
                             const std::vector<char>& informative) {
   DecisionWindows w;

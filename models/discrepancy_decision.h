@@ -54,6 +54,13 @@ struct DecisionWindows {
 Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k, bool relevant,
                 const DecisionWindows& windows, const DecisionRule& rule);
 
+// Whether the held-out windows tell a chosen cause from a rival that passed the rule in the same
+// round: the p-value of the one-sided signed-rank test that the chosen model's held-out path
+// errors are lower than the rival's (differences under kResolvedDifference_m are ties, as in
+// `decide`). At or above the analysis's alpha the data cannot tell the two apart.
+double p_chosen_beats_rival(const WindowFigures& chosen, const WindowFigures& rival,
+                            const DecisionWindows& windows);
+
 // Every window once, in order: the decision on the data as they are.
 DecisionWindows all_windows(size_t n_train, size_t n_held, const std::vector<double>& held_scale_m,
                             const std::vector<char>& informative);

@@ -107,6 +107,21 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                          {"accepted", e.accepted}});
   }
   j["exchanges"] = exchanges;
+  Json rivals = Json::array();
+  for (const Rival& v : r.rivals) {
+    const EffectSpec& spec = find_effect(v.rival);
+    Json params = Json::object();
+    for (size_t i = 0; i < v.params.size(); ++i) params[spec.params[i].key] = num(v.params[i]);
+    rivals.push_back({{"cause", v.cause},
+                      {"rival", v.rival},
+                      {"params", params},
+                      {"p_value", num(v.p_value)},
+                      {"cause_delta_bic", num(v.cause_delta_bic)},
+                      {"rival_delta_bic", num(v.rival_delta_bic)},
+                      {"cause_gain", num(v.cause_gain)},
+                      {"rival_gain", num(v.rival_gain)}});
+  }
+  j["rivals"] = rivals;
   j["provisional"] = r.provisional;
   j["withdrawn"] = r.withdrawn;
   j["joint_p_value"] = num(r.joint_p_value);
@@ -283,6 +298,17 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
               " (*: every resample refitted within the fit's finest step; the interval is that "
               "resolution.)";
         }
+      }
+      for (const Rival& v : r.rivals) {
+        if (v.cause != f) continue;
+        ModelExtensions e;
+        set_extension_values(&e, v.rival, v.params);
+        md += " The held-out windows cannot tell it from **" + describe_extension(e, v.rival) +
+              "** (its path errors are not the lower ones: signed-rank p " + fixed(v.p_value, 3) +
+              "; path error gain " + fixed(100.0 * v.cause_gain, 1) + " against " +
+              fixed(100.0 * v.rival_gain, 1) +
+              " %): either explains these data, and the training windows chose it (delta BIC " +
+              fixed(v.cause_delta_bic, 1) + " against " + fixed(v.rival_delta_bic, 1) + ").";
       }
       md += "\n";
     }

@@ -72,6 +72,25 @@ TEST(DiscrepancyDecision, ReadsEachCriterionAsDefined) {
   EXPECT_FALSE(e.significant);
 }
 
+TEST(DiscrepancyDecision, ARivalIsToldApartOnlyByLowerHeldOutErrors) {
+  const Case c = better_everywhere();
+  const DecisionWindows w = all_windows(20, 12, c.scale_m, c.informative);
+  // The candidate's held-out errors are lower in every window: it beats the base as a rival, by
+  // the same test the rule reads (base minus candidate, one-sided), and the base does not beat it.
+  std::vector<double> diff;
+  for (int i = 0; i < 12; ++i)
+    diff.push_back(c.base.held[i].path_error - c.candidate.held[i].path_error);
+  EXPECT_NEAR(p_chosen_beats_rival(c.candidate, c.base, w), wilcoxon_greater(diff), 1e-15);
+  EXPECT_LT(p_chosen_beats_rival(c.candidate, c.base, w), 0.05);
+  EXPECT_GT(p_chosen_beats_rival(c.base, c.candidate, w), 0.95);
+  // Two models with the same held-out errors (the training costs aside): all ties, nothing tells
+  // them apart.
+  WindowFigures twin = c.candidate;
+  for (double& t : twin.train_cost) t *= 0.5;
+  EXPECT_GE(p_chosen_beats_rival(twin, c.candidate, w), 0.5);
+  EXPECT_GE(p_chosen_beats_rival(c.candidate, twin, w), 0.5);
+}
+
 TEST(DiscrepancyDecision, DifferencesUnderAMillimetreAreTies) {
   Case c = better_everywhere();
   // Scale 5 mm: every difference (0.1-0.155 scales, 0.5-0.8 mm) is under 1 mm: all ties,
