@@ -223,4 +223,15 @@ std::string air_identity(const AirFlags& flags) {
   return "cfd " + flags.cfd_dir + " " + content_hash(all) + drag;
 }
 
+TrajectoryFiles read_trajectory_files(const std::vector<std::string>& paths) {
+  TrajectoryFiles f;
+  std::vector<TrajectorySet> sets;
+  for (const std::string& path : paths) sets.push_back(read_trajectory_csv(path));
+  f.set = merge_trajectory_sets(std::move(sets));
+  f.source = paths.size() == 1 ? paths.front()
+                               : std::to_string(paths.size()) + " files, " + paths.front() +
+                                     " to " + paths.back();
+  return f;
+}
+
 }  // namespace airtwin::cli

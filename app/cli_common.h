@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "models/trajectory_data.h"
 #include "sim/effects.h"
 
 namespace airtwin::cli {
@@ -36,6 +37,14 @@ struct NoiseLevel {
   double blur_sigma_px = 0.0;
 };
 NoiseLevel parse_noise(const std::string& level);
+
+/// One or more trajectory CSVs read as one set (merge_trajectory_sets: with several, each id
+/// becomes FILE_INDEX:ID), and how to name them: the path, or "N files, FIRST to LAST".
+struct TrajectoryFiles {
+  TrajectorySet set;
+  std::string source;
+};
+TrajectoryFiles read_trajectory_files(const std::vector<std::string>& paths);
 
 /// A library field ("collection.per_tilt") and the flag that sets it ("--per-tilt").
 struct FlagOf {

@@ -52,12 +52,9 @@ void run(const DiscrepancyArgs& a) {
               {"discrepancy.prior_command", "--prior-command"}},
              [&] { options.validate(); });
 
-  std::vector<TrajectorySet> sets;
-  for (const std::string& path : a.data) sets.push_back(read_trajectory_csv(path));
-  const TrajectorySet set = merge_trajectory_sets(std::move(sets));
-  const std::string source = a.data.size() == 1 ? a.data.front()
-                                                : std::to_string(a.data.size()) + " files, " +
-                                                      a.data.front() + " to " + a.data.back();
+  const TrajectoryFiles files = read_trajectory_files(a.data);
+  const TrajectorySet& set = files.set;
+  const std::string& source = files.source;
   const AirFieldModel field =
       a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
   // The nominal dynamics: the paper's, replaced per object type by the models given.

@@ -19,7 +19,7 @@ namespace airtwin::cli {
 namespace {
 
 struct IdentifyArgs {
-  std::string data;
+  std::vector<std::string> data;
   std::string series;
   std::string table;
   std::string object;
@@ -110,24 +110,25 @@ void run_identify(IdentifyArgs a) {
     model = identify_series(read_speed_series_csv(a.series), a.object, o);
     model.source = a.series;
   } else {
-    const TrajectorySet set = read_trajectory_csv(a.data);
+    const TrajectoryFiles files = read_trajectory_files(a.data);
+    const TrajectorySet& set = files.set;
     std::set<std::string> objects;
     for (const Trajectory& tr : set.trajectories) objects.insert(tr.object);
     if (a.object.empty()) {
       if (objects.size() > 1) {
         std::string list;
         for (const std::string& name : objects) list += (list.empty() ? "" : ", ") + name;
-        throw UsageError(a.data + " holds several object types (" + list +
+        throw UsageError(files.source + " holds several object types (" + list +
                          "); choose one with --object");
       }
       a.object = *objects.begin();
     } else if (!objects.count(a.object)) {
-      throw InputError(a.data + ": no trajectory of object type '" + a.object + "'");
+      throw InputError(files.source + ": no trajectory of object type '" + a.object + "'");
     }
     const AirFieldModel field =
         a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
     model = identify_trajectories(set, a.object, field, o);
-    model.source = a.data;
+    model.source = files.source;
   }
   write_text_file(a.out, identified_model_json(model));
   print_summary(model, a.out);
@@ -146,7 +147,10 @@ void add_identify_command(CLI::App& app) {
       "regression in discrete time over the library 1, v, vair, v^2, v*vair, vair^2, v^3,\n"
       "v^2*vair, v*vair^2, vair^3. Writes model.json (continuous-time coefficients, inclusion\n"
       "probabilities, R^2, end-position MAPE). Method: docs/identification.md.");
-  sub->add_option("FILE", args->data, "Trajectory CSV (see docs/data_formats.md)");
+  sub->add_option(
+      "FILE", args->data,
+      "Trajectory CSV (see docs/data_formats.md), or several (e.g. Appendix D sessions\n"
+      "recorded apart): trajectory ids then become FILE_INDEX:ID, 1-based");
   sub->add_option("--series", args->series, "Speed series CSV with header t,v,vair instead");
   sub->add_option("--out", args->out, "Output model JSON")->required();
   sub->add_option("--table", args->table,

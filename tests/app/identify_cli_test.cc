@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -77,6 +78,20 @@ TEST_F(IdentifyCli, TrajectoriesToModelJson) {
       0);
   const auto j9 = nlohmann::json::parse(read_text_file(d + "/seed9.json"));
   EXPECT_EQ(j9["seed"], 9);
+
+  // The same file twice, as two sessions: every trajectory twice, the same model within the
+  // bootstraps' scatter, and the source names both.
+  ASSERT_EQ(
+      run_airtwin("identify " + d + "/tracer.csv " + d + "/tracer.csv --out " + d + "/twice.json")
+          .exit_code,
+      0);
+  const auto j2 = nlohmann::json::parse(read_text_file(d + "/twice.json"));
+  EXPECT_EQ(j2["source"].get<std::string>().rfind("2 files, ", 0), 0u) << j2["source"];
+  for (int k : {0, 1, 2}) {
+    EXPECT_NEAR(j2["coefficients"][k].get<double>(), j["coefficients"][k].get<double>(),
+                0.01 * std::abs(j["coefficients"][k].get<double>()))
+        << k;
+  }
 }
 
 TEST_F(IdentifyCli, ObjectChoiceInAMixedFileAndSpeedSeries) {
@@ -123,6 +138,7 @@ TEST_F(IdentifyCli, BadInputIsOneClearLine) {
   expect_failure("identify " + d + "/tracer.csv --terms 1,vair --out x.json", 2, "must include v");
   expect_failure("identify " + d + "/tracer.csv --terms 1,v,w --out x.json", 2, "unknown term 'w'");
   expect_failure("identify " + d + "/missing.csv --out x.json", 1, "missing.csv");
+  expect_failure("identify " + d + "/tracer.csv " + d + "/gone.csv --out x.json", 1, "gone.csv");
   expect_failure("identify " + d + "/tracer.csv --object pebble --out x.json", 1, "pebble");
   write(d + "/bad.csv",
         "traj,object,t,x,y,pan_deg,tilt_deg\n1,tracer,0,0.1,0.2,0,0\n"
