@@ -26,12 +26,16 @@ using discrepancy_detail::fixed;
 std::string discrepancy_report_json(const DiscrepancyReport& r) {
   using Json = nlohmann::ordered_json;
   auto num = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
-  auto candidate = [&](const CandidateResult& c) {
+  // An extension's typed values as {key: value}, catalogue order.
+  auto params_of = [](const std::string& name, const std::vector<double>& v) {
+    const EffectSpec& spec = find_effect(name);
     Json params = Json::object();
-    const EffectSpec& spec = find_effect(c.name);
-    for (size_t i = 0; i < c.params.size(); ++i) params[spec.params[i].key] = c.params[i];
+    for (size_t i = 0; i < v.size(); ++i) params[spec.params[i].key] = v[i];
+    return params;
+  };
+  auto candidate = [&](const CandidateResult& c) {
     return Json{{"name", c.name},
-                {"params", params},
+                {"params", params_of(c.name, c.params)},
                 {"heldout_end_mape", num(c.heldout_end_mape)},
                 {"delta_bic", num(c.delta_bic)},
                 {"p_value", num(c.p_value)},
@@ -61,11 +65,7 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   j["notes"] = r.notes;
   Json ext = Json::object();
   for (const std::string& name : r.found) {
-    const EffectSpec& spec = find_effect(name);
-    const std::vector<double> v = extension_values(r.extensions, name);
-    Json params = Json::object();
-    for (size_t i = 0; i < v.size(); ++i) params[spec.params[i].key] = v[i];
-    ext[name] = params;
+    ext[name] = params_of(name, extension_values(r.extensions, name));
   }
   j["extensions"] = ext;
   Json intervals = Json::object();
@@ -109,12 +109,9 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
   j["exchanges"] = exchanges;
   Json rivals = Json::array();
   for (const Rival& v : r.rivals) {
-    const EffectSpec& spec = find_effect(v.rival);
-    Json params = Json::object();
-    for (size_t i = 0; i < v.params.size(); ++i) params[spec.params[i].key] = num(v.params[i]);
     rivals.push_back({{"cause", v.cause},
                       {"rival", v.rival},
-                      {"params", params},
+                      {"params", params_of(v.rival, v.params)},
                       {"p_value", num(v.p_value)},
                       {"cause_delta_bic", num(v.cause_delta_bic)},
                       {"rival_delta_bic", num(v.rival_delta_bic)},
