@@ -114,9 +114,10 @@ ordered_json batch_settings(const BatchArgs& a) {
     s["vision"]["calibration"] =
         f.calib.empty() ? ordered_json{{"twin_seed", kCalibrationSeed}} : file_identity(f.calib);
   }
-  s["table"] = f.table.empty() ? ordered_json("built-in") : file_identity(f.table);
+  const std::string table = controller_table(f);
+  s["table"] = table.empty() ? ordered_json("built-in") : file_identity(table);
   s["models"] = ordered_json::array();
-  for (const std::string& m : f.models) s["models"].push_back(file_identity(m));
+  for (const std::string& m : controller_models(f)) s["models"].push_back(file_identity(m));
   s["effects"] = f.effects;
   s["scene"] = f.mjcf.empty() ? ordered_json("built") : scene_identity(f.mjcf);
   s["air"] = air_identity(f.air);

@@ -101,8 +101,9 @@ void run_calibrate_physical(CalibrateArgs a) {
               {"calibration.refinements", "--refinements"},
               {"calibration target", "--target"}},
              [&] { o.validate(); });
+  const std::string table = a.table.empty() ? fitted_field_model_file(a.air) : a.table;
   const AirFieldModel field =
-      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+      table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(table);
   std::vector<std::string> keys;
   for (const DragCalibrationAxis& ax : o.axes) {
     keys.push_back(object_physics_catalogue()[static_cast<size_t>(ax.key)].key);
@@ -149,7 +150,7 @@ void run_calibrate_physical(CalibrateArgs a) {
       {"object", o.collection.object},
       {"air", air_identity(a.air)},
       {"drag", "physical"},
-      {"table", a.table.empty() ? "built-in" : a.table},
+      {"table", table.empty() ? "built-in" : table},
       {"target", triple(o.target)},
       {"best", c.best},
       {"best_object_physics", physics},
@@ -296,7 +297,8 @@ void add_calibrate_dynamics_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--table", args->table,
                   "With --drag physical: the controller's field model identification uses\n"
-                  "(coefficient table CSV or field-model JSON; default: the built-in table)");
+                  "(coefficient table CSV or field-model JSON; default: in CFD air the one\n"
+                  "fitted to the CFD, in model air the built-in table)");
   sub->add_option("--out", args->out, "Output JSON record")->required();
   sub->callback([args] { run_calibrate(*args); });
 }

@@ -90,12 +90,13 @@ std::vector<Effect> apply_effect_flags(const std::vector<std::string>& texts,
 void add_air_flags(CLI::App* sub, AirFlags& flags) {
   sub->add_option("--air", flags.air,
                   "The air the objects are in: cfd (the jet's CFD, data/cfd/, docs/cfd.md) or\n"
-                  "model (the controller's own analytical field, eqs. 1-3: a twin that mirrors\n"
-                  "the model)")
+                  "model (the controller's own analytical field, eqs. 1-3: with --drag eq8, a\n"
+                  "twin that mirrors the model)")
       ->capture_default_str();
   sub->add_option("--drag", flags.drag,
-                  "The objects' drag law: eq8 (c (k u - v), eq. (8) read as physics) or physical\n"
-                  "(1/2 rho C_D(Re) A |u - v| (u - v) with the types' C_D and area; docs/twin.md)")
+                  "The objects' drag law: physical (1/2 rho C_D(Re) A |u - v| (u - v), lift and\n"
+                  "friction with the types' calibrated parameters; docs/twin.md) or eq8\n"
+                  "(c (k u - v), eq. (8) read as physics)")
       ->capture_default_str();
   sub->add_option("--cfd", flags.cfd_dir,
                   "With --air cfd: the folder of CFD cases (default: the shipped data/cfd)");
@@ -196,6 +197,11 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     throw UsageError("--air-formation: " + flags.cfd_dir + " lacks " + CfdField::kFormationData);
   }
   twin->cfd_air = field;
+}
+
+std::string fitted_field_model_file(const AirFlags& flags) {
+  return flags.air == "cfd" ? std::string(AIRTWIN_MODEL_DATA_DIR) + "/cfd_fitted_field_model.json"
+                            : std::string();
 }
 
 std::string air_identity(const AirFlags& flags) {

@@ -76,10 +76,13 @@ inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
 
 /// The twin's air: the jet's CFD or the controller's analytical field (the default until the
 /// controller's model is fitted to the CFD, docs/twin.md).
+/// The twin's physics. The defaults are the physical twin (the CFD's air, physical drag with the
+/// calibrated parameters: docs/twin.md); --air model --drag eq8 is the mirror of the
+/// controller's model.
 struct AirFlags {
-  std::string air = "model";
+  std::string air = "cfd";
   std::string cfd_dir = AIRTWIN_CFD_DIR;  ///< the shipped cases (data/cfd/)
-  std::string drag = "eq8";               ///< the objects' drag law: eq8 | physical
+  std::string drag = "physical";          ///< the objects' drag law: eq8 | physical
   /// --object-physics TYPE:key=value,... (sim/object_physics.h), applied in order after --drag.
   std::vector<std::string> object_physics;
   /// The wall jet's formation from the CFD's pulses (sim/air_transport.h) is on in CFD air
@@ -113,6 +116,11 @@ void check_air_flags(const AirFlags& flags);
 /// UsageError naming --air, --cfd, --drag or --object-physics; InputError naming the file for
 /// unreadable CFD data.
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin);
+
+/// The controller's field model fitted to the air the flags select: in the CFD's air eq. (2) and
+/// the table fitted to the CFD (models/data/cfd_fitted_field_model.json); in the model's air ""
+/// (the built-in table).
+std::string fitted_field_model_file(const AirFlags& flags);
 
 /// What the air flags select, for records: "model", or "cfd" with the folder and a hash of its
 /// case headers; then the drag law and any --object-physics.

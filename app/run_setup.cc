@@ -16,10 +16,14 @@ namespace airtwin::cli {
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& calib_default) {
   sub->add_option("--table", f.table,
                   "The controller's air model: a coefficient table CSV or a field-model JSON\n(eq. "
-                  "(2)'s a1, a2 and a table; default: the built-in table)");
+                  "(2)'s a1, a2 and a table; default: in CFD air the one fitted to the CFD,\n"
+                  "models/data/cfd_fitted_field_model.json; in model air the built-in table)");
   sub->add_option("--model", f.models,
-                  "model.json from 'airtwin identify' (repeatable, one per object type): the\n"
-                  "dynamics the controller plans with instead of the paper's eq. (8)");
+                  "model.json from 'airtwin identify' or extended_model.json from 'airtwin\n"
+                  "discrepancy' (repeatable, one per object type): the dynamics the controller\n"
+                  "plans with (default: in the physical twin, CFD air and physical drag, the\n"
+                  "models fitted to it, models/data/twin/extended_model.json; otherwise the\n"
+                  "paper's eq. (8))");
   sub->add_option("--effect", f.effects,
                   "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
   add_air_flags(sub, f.air);
@@ -56,8 +60,21 @@ void check_run_setup_flags(const RunSetupFlags& f) {
   check_air_flags(f.air);
 }
 
+std::string controller_table(const RunSetupFlags& f) {
+  return f.table.empty() ? fitted_field_model_file(f.air) : f.table;
+}
+
+std::vector<std::string> controller_models(const RunSetupFlags& f) {
+  if (!f.models.empty()) return f.models;
+  if (f.air.air == "cfd" && f.air.drag == "physical") {
+    return {std::string(AIRTWIN_MODEL_DATA_DIR) + "/twin/extended_model.json"};
+  }
+  return {};
+}
+
 AirFieldModel field_model_of(const RunSetupFlags& f) {
-  return f.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(f.table);
+  const std::string table = controller_table(f);
+  return table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(table);
 }
 
 ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
@@ -68,7 +85,8 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   options.twin.scene_file = f.mjcf;
   // The dynamics the controller plans with, per object type (and an extended model's
   // extensions).
-  if (!f.models.empty()) plan_with_model_files(f.models, field_model_of(f), &options);
+  const std::vector<std::string> models = controller_models(f);
+  if (!models.empty()) plan_with_model_files(models, field_model_of(f), &options);
   // The vision pipeline's sensor and rate.
   if (f.vision) {
     const NoiseLevel noise = parse_noise(f.noise);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 
 #include "common/errors.h"
 #include "common/random_stream.h"
@@ -243,6 +244,38 @@ void add_cause(const Evaluator& ev, const std::vector<size_t>& train,
   refit_selection(ev, train, held, start, o, sel);
 }
 
+// Candidates `a` and `b` fitted together on top of the chosen causes (a from its own fit in the
+// round, the grid over b's coordinates, then both refined), scored by the rule with both
+// parameter counts.
+PairEntry score_pair(const Evaluator& ev, const std::vector<size_t>& train,
+                     const std::vector<size_t>& held, const DecisionWindows& windows,
+                     const Selection& sel, const CandidateResult& a, const CandidateResult& b,
+                     const DecisionRule& rule, const DiscrepancyOptions& o, FitResult* fit) {
+  std::vector<std::string> fit_names = sel.chosen;
+  fit_names.push_back(a.name);
+  fit_names.push_back(b.name);
+  const bool nuisance =
+      std::find(fit_names.begin(), fit_names.end(), "stiction") == fit_names.end();
+  std::vector<double> x0 = sel.current_x;
+  const std::vector<double> xa = fit_from_typed(a.name, a.params);
+  x0.insert(x0.end(), xa.begin(), xa.end());
+  *fit = fit_extensions(ev, train, sel.base, fit_names, x0, o.max_iterations, nuisance);
+  const bool relevant = extension_size(fit->ext, a.name) > negligible_size(a.name) &&
+                        extension_size(fit->ext, b.name) > negligible_size(b.name);
+  const WindowFigures figures = figures_of(ev, fit->ext, train, held);
+  const Decision d = decide(sel.figures, figures, parameter_count(a.name) + parameter_count(b.name),
+                            relevant, windows, rule);
+  PairEntry e;
+  e.first = a.name;
+  e.second = b.name;
+  e.delta_bic = d.delta_bic;
+  e.p_value = d.p_value;
+  e.gain = d.gain;
+  e.end_mape_improves = d.end_mape_improves;
+  e.significant = d.significant;
+  return e;
+}
+
 // The selection without its cause `name`: that extension back at its nominal values, the others
 // refitted from theirs.
 Selection without_cause(const Evaluator& ev, const std::vector<size_t>& train,
@@ -357,6 +390,278 @@ std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size
   return exchanges;
 }
 
+// What the forward selection reads: the windows, the rule, the candidates.
+struct RouteContext {
+  const Evaluator& ev;
+  const std::vector<size_t>& train;
+  const std::vector<size_t>& held;
+  const std::vector<std::string>& names;
+  DecisionRule rule;
+  std::vector<double> held_scale_m;
+  DecisionWindows windows;
+  const std::vector<char>& informative;
+  const DiscrepancyOptions& o;
+  const std::function<void(const std::string&)>& say;
+};
+
+// One route of the forward selection: its rounds and checks, and the selection it leaves.
+struct Route {
+  Selection sel;
+  // A provisional cause (below) and the selection it was added to.
+  Selection before_provisional, provisional_base;
+  bool provisional = false, joint_check = false;
+  std::map<std::string, size_t> entered;  // the round each cause entered in
+  std::vector<std::vector<CandidateResult>> rounds;
+  std::vector<double> none_frequency;
+  std::vector<std::string> provisional_names;
+  std::vector<PairEntry> pairs;
+  std::vector<Rival> rivals;
+  std::vector<BackwardCheck> backward;
+  std::vector<Exchange> exchanges;
+  double joint_p_value = NAN;
+  std::vector<std::string> notes;
+};
+
+// Where the other route starts: the first round in which a cause was found while the round's
+// decision could have gone another way, with the candidate that takes the found cause's place:
+// - a lead (`provisional`): a candidate better supported by the training windows (lower delta
+//   BIC) that failed only the size of its held-out gain or end MAPE. Effects that mask each
+//   other do this: a response delay beside a stronger field fits well on the training windows,
+//   but its held-out end positions get worse until the field is modelled, and a weaker cause
+//   that mimics part of the three passes first;
+// - a rival (a cause): one that passed too and that the held-out windows cannot tell from the
+//   cause found. A delay and a weaker field both shorten every push: with a nozzle offset
+//   beside the delay, a field scale of 0.81 won the first round by a delta BIC of 0.7.
+// Of those, the one the training windows support best.
+struct Fork {
+  Route state;  // at the round's start
+  int round = 0;
+  std::vector<CandidateResult> results;
+  std::vector<WindowFigures> figures;
+  double none_frequency = 0.0;
+  std::string name;
+  bool provisional = false;
+};
+
+// The first round without a cause or a lead: effects can cancel so that no single candidate is
+// supported (three hidden at once: a delay, a stronger field and a slope; the field scale alone
+// then fits 1.09 for 1.33, its held-out p 0.07; with a shorter delay, the delay's delta BIC was
+// -0.3, its held-out p 0.005). The candidates larger than negligible that the training windows
+// favour (delta BIC below 0) or the held-out test supports (p below the corrected level), the
+// five best supported by the training windows at most, are fitted two at a time; each pair
+// is tested by the rule with both parameter counts, at alpha corrected for the round's
+// candidates and pairs together; the pair the training windows support best of those passing
+// enters as two causes. Returns whether one did.
+bool enter_pair(const RouteContext& c, int round, const std::vector<CandidateResult>& results,
+                Route* route) {
+  constexpr size_t kMaxPairCandidates = 5;
+  std::vector<const CandidateResult*> pool;
+  for (const CandidateResult& r : results) {
+    if (r.relevant && (r.delta_bic < 0.0 || r.p_value < c.rule.p_threshold)) pool.push_back(&r);
+  }
+  std::sort(pool.begin(), pool.end(), [](const CandidateResult* x, const CandidateResult* y) {
+    return x->delta_bic < y->delta_bic;
+  });
+  if (pool.size() > kMaxPairCandidates) pool.resize(kMaxPairCandidates);
+  // Only before any cause: once one is modelled, the provisional lead covers masking.
+  if (!route->sel.chosen.empty() || c.o.max_found < 2) return false;
+  const size_t n_pairs = pool.size() * (pool.size() - 1) / 2;
+  if (n_pairs == 0) return false;
+  DecisionRule rule = c.rule;
+  rule.p_threshold = c.o.alpha / static_cast<double>(results.size() + n_pairs);
+  int best = -1;
+  FitResult best_fit;
+  for (size_t i = 0; i < pool.size(); ++i) {
+    for (size_t j = i + 1; j < pool.size(); ++j) {
+      c.say("round " + std::to_string(round + 1) + ": fitting " + pool[i]->name + " with " +
+            pool[j]->name);
+      FitResult fit;
+      PairEntry e = score_pair(c.ev, c.train, c.held, c.windows, route->sel, *pool[i], *pool[j],
+                               rule, c.o, &fit);
+      e.round = round + 1;
+      route->pairs.push_back(e);
+      if (e.significant &&
+          (best < 0 || e.delta_bic < route->pairs[static_cast<size_t>(best)].delta_bic)) {
+        best = static_cast<int>(route->pairs.size() - 1);
+        best_fit = fit;
+      }
+    }
+  }
+  if (best < 0) return false;
+  const PairEntry& e = route->pairs[static_cast<size_t>(best)];
+  c.say("found " + e.first + " with " + e.second);
+  Selection& sel = route->sel;
+  sel.chosen.push_back(e.first);
+  sel.chosen.push_back(e.second);
+  route->entered[e.first] = static_cast<size_t>(round);
+  route->entered[e.second] = static_cast<size_t>(round);
+  ModelExtensions start = sel.current;
+  set_extension_values(&start, e.first, extension_values(best_fit.ext, e.first));
+  set_extension_values(&start, e.second, extension_values(best_fit.ext, e.second));
+  refit_selection(c.ev, c.train, c.held, start, c.o, &sel);
+  return true;
+}
+
+// The forward selection's rounds from `route`'s state. With `start`, its round is not fitted
+// again and its candidate takes the place of the cause found there (provisionally for a lead);
+// without it, the first fork met is stored in `fork` (when not null).
+void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::optional<Fork>* fork) {
+  const DiscrepancyOptions& o = c.o;
+  Selection& sel = route->sel;
+  const int first = start != nullptr ? start->round : static_cast<int>(route->rounds.size());
+  for (int round = first; round < o.max_found; ++round) {
+    std::vector<CandidateResult> results;
+    std::vector<WindowFigures> figures;
+    double none_frequency = 0.0;
+    const bool forced = start != nullptr && round == first;
+    if (forced) {
+      results = start->results;
+      figures = start->figures;
+      none_frequency = start->none_frequency;
+    } else {
+      for (const std::string& name : c.names) {
+        if (std::find(sel.chosen.begin(), sel.chosen.end(), name) != sel.chosen.end()) continue;
+        c.say("round " + std::to_string(round + 1) + ": fitting " + name);
+        figures.emplace_back();
+        results.push_back(score_candidate(c.ev, c.train, c.held, c.windows, sel, name, c.rule, o,
+                                          &figures.back()));
+      }
+      // How firmly the round's decision rests on the windows recorded.
+      std::vector<RoundCandidate> round_candidates;
+      for (size_t i = 0; i < results.size(); ++i) {
+        round_candidates.push_back(
+            {&figures[i], parameter_count(results[i].name), results[i].relevant});
+      }
+      const std::vector<double> freq = selection_frequencies(
+          sel.figures, round_candidates, c.held_scale_m, c.informative, c.rule, o.seed, round);
+      for (size_t i = 0; i < results.size(); ++i) results[i].selection_frequency = freq[i];
+      none_frequency = freq.back();
+    }
+    const CandidateResult* best = nullptr;
+    for (const CandidateResult& r : results) {
+      if (r.significant && (best == nullptr || r.delta_bic < best->delta_bic)) best = &r;
+    }
+    std::vector<double> r_p(results.size(), NAN);
+    // Of the candidates whose evidence holds (delta BIC, size and the held-out test passing),
+    // whether or not the size of their held-out gain or end MAPE does, the one the training
+    // windows support best.
+    const CandidateResult* lead = nullptr;
+    for (const CandidateResult& r : results) {
+      if (r.relevant && r.delta_bic <= c.rule.max_delta_bic && r.p_value < c.rule.p_threshold &&
+          (lead == nullptr || r.delta_bic < lead->delta_bic)) {
+        lead = &r;
+      }
+    }
+    // The found cause's rivals: the round's other causes that the held-out windows cannot tell
+    // from it.
+    std::vector<size_t> rivals;
+    if (best != nullptr) {
+      const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
+      for (size_t i = 0; i < results.size(); ++i) {
+        const CandidateResult& r = results[i];
+        if (&r == best || !r.significant) continue;
+        r_p[i] = p_chosen_beats_rival(best_figures, figures[i], c.windows);
+        if (r_p[i] >= o.alpha) rivals.push_back(i);
+      }
+    }
+    if (forced) {
+      const auto it = std::find_if(results.begin(), results.end(),
+                                   [&](const CandidateResult& r) { return r.name == start->name; });
+      if (start->provisional) {
+        best = nullptr;
+        lead = &*it;
+      } else {
+        best = &*it;
+      }
+    } else if (fork != nullptr && !fork->has_value() && best != nullptr && !route->provisional &&
+               round + 1 < o.max_found) {
+      const CandidateResult* other = lead != best ? lead : nullptr;
+      for (size_t i : rivals) {
+        if (other == nullptr || results[i].delta_bic < other->delta_bic) other = &results[i];
+      }
+      if (other != nullptr) {
+        *fork = Fork{*route, round, results, figures, none_frequency, other->name, other == lead};
+      }
+    }
+    route->none_frequency.push_back(none_frequency);
+    route->rounds.push_back(results);
+    if (best == nullptr) {
+      if (route->provisional) {
+        c.say("no cause on top of " + sel.chosen.back() + ": it is taken out again");
+        sel = route->before_provisional;
+        route->provisional = false;
+        break;
+      }
+      // Effects can mask each other: a response delay and a stronger field cancel in the end
+      // positions until one of them is modelled, and then neither passes alone. The lead enters
+      // provisionally, and the next round runs on top of it; it stays only if that round finds a
+      // cause, the backward check keeps it, and the causes together beat the round's base on the
+      // held-out windows.
+      if (lead == nullptr) {
+        if (!enter_pair(c, round, results, route)) break;
+        continue;
+      }
+      if (round + 1 >= o.max_found) break;
+      c.say("provisionally " + lead->name);
+      route->before_provisional = sel;
+      route->entered[lead->name] = static_cast<size_t>(round);
+      route->provisional = true;
+      route->provisional_names.push_back(lead->name);
+      add_cause(c.ev, c.train, c.held, *lead, o, &sel);
+      continue;
+    }
+    c.say("found " + best->name);
+    if (forced) {  // the rivals were of the cause it replaces
+      rivals.clear();
+      const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
+      for (size_t i = 0; i < results.size(); ++i) {
+        const CandidateResult& r = results[i];
+        if (&r == best || !r.significant) continue;
+        r_p[i] = p_chosen_beats_rival(best_figures, figures[i], c.windows);
+        if (r_p[i] >= o.alpha) rivals.push_back(i);
+      }
+    }
+    for (size_t i : rivals) {
+      const CandidateResult& r = results[i];
+      route->rivals.push_back(
+          {best->name, r.name, r.params, r_p[i], best->delta_bic, r.delta_bic, best->gain, r.gain});
+    }
+    route->entered[best->name] = static_cast<size_t>(round);
+    add_cause(c.ev, c.train, c.held, *best, o, &sel);
+    if (route->provisional) {
+      route->provisional = false;
+      route->provisional_base = route->before_provisional;
+      route->joint_check = true;
+    }
+  }
+  if (route->provisional) {  // the rounds ran out on top of it
+    sel = route->before_provisional;
+    route->provisional = false;
+  }
+}
+
+// The checks after the forward rounds: backward, jointly against the selection before a
+// provisional cause, exchange.
+void finish_route(const RouteContext& c, Route* route) {
+  Selection& sel = route->sel;
+  route->backward = backward_check(c.ev, c.train, c.held, c.windows, c.rule, c.o, c.say, &sel);
+  if (route->joint_check) {
+    const JointCheck j =
+        check_jointly(route->provisional_base.figures, route->provisional_base.chosen, sel.figures,
+                      sel.chosen, parameter_count, c.windows, c.rule);
+    route->joint_p_value = j.decision.p_value;
+    if (!j.kept()) {
+      c.say("the causes found with a provisional one do not beat the model without them");
+      route->notes.push_back(j.rejection_note());
+      // The backward check's records are of the selection taken out.
+      route->backward.clear();
+      sel = route->provisional_base;
+    }
+  }
+  route->exchanges = exchange_check(c.ev, c.train, c.held, c.windows, c.rule, c.o, c.say,
+                                    route->rounds, route->entered, &sel, &route->backward);
+}
+
 }  // namespace
 
 DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldModel& field,
@@ -394,116 +699,60 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
 
   // Forward selection, every fit on top of the ordinary static friction (the nuisance), each
   // round's candidates tested at alpha corrected for their number.
-  DecisionRule rule;
-  rule.p_threshold = o.alpha / static_cast<double>(names.size());
-  rule.max_delta_bic = o.max_delta_bic;
-  rule.min_gain = o.min_gain;
-  std::vector<double> held_scale_m;
-  for (size_t i : held) held_scale_m.push_back(ws.windows[i].scale_m);
-  const DecisionWindows windows = all_windows(train.size(), held.size(), held_scale_m, informative);
+  RouteContext ctx{ev, train, held, names, {}, {}, {}, informative, o, say};
+  ctx.rule.p_threshold = o.alpha / static_cast<double>(names.size());
+  ctx.rule.max_delta_bic = o.max_delta_bic;
+  ctx.rule.min_gain = o.min_gain;
+  for (size_t i : held) ctx.held_scale_m.push_back(ws.windows[i].scale_m);
+  ctx.windows = all_windows(train.size(), held.size(), ctx.held_scale_m, informative);
   const ModelExtensions nominal;
-  Selection sel;
-  // A provisional cause (below) and the selection it was added to.
-  Selection before_provisional, provisional_base;
-  bool provisional = false, joint_check = false;
-  std::map<std::string, size_t> entered;  // the round each cause entered in
-  sel.base = nominal;
-  sel.base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
-  const double reference_ratio = sel.base.static_friction_ratio;
-  sel.current = sel.base;
-  sel.figures = figures_of(ev, sel.current, train, held);
-  for (int round = 0; round < o.max_found; ++round) {
-    std::vector<CandidateResult> results;
-    std::vector<WindowFigures> figures;
-    for (const std::string& name : names) {
-      if (std::find(sel.chosen.begin(), sel.chosen.end(), name) != sel.chosen.end()) continue;
-      say("round " + std::to_string(round + 1) + ": fitting " + name);
-      figures.emplace_back();
-      results.push_back(
-          score_candidate(ev, train, held, windows, sel, name, rule, o, &figures.back()));
-    }
-    // How firmly the round's decision rests on the windows recorded.
-    std::vector<RoundCandidate> round_candidates;
-    for (size_t i = 0; i < results.size(); ++i) {
-      round_candidates.push_back(
-          {&figures[i], parameter_count(results[i].name), results[i].relevant});
-    }
-    const std::vector<double> freq = selection_frequencies(
-        sel.figures, round_candidates, held_scale_m, informative, rule, o.seed, round);
-    for (size_t i = 0; i < results.size(); ++i) results[i].selection_frequency = freq[i];
-    report.none_frequency.push_back(freq.back());
-    report.rounds.push_back(results);
-    if (round == 0) report.candidates = results;
-    const CandidateResult* best = nullptr;
-    for (const CandidateResult& c : results) {
-      if (c.significant && (best == nullptr || c.delta_bic < best->delta_bic)) best = &c;
-    }
-    if (best == nullptr) {
-      if (provisional) {
-        say("no cause on top of " + sel.chosen.back() + ": it is taken out again");
-        sel = before_provisional;
-        provisional = false;
-        break;
-      }
-      // Effects can mask each other: a response delay and a stronger field cancel in the end
-      // positions until one of them is modelled, and then neither passes alone. Of the
-      // candidates whose evidence holds (delta BIC, size and the held-out test passing) while
-      // the size of their held-out gain or end MAPE does not, the one the training windows
-      // support best enters
-      // provisionally, and the next round runs on top of it; it stays only if that round
-      // finds a cause, the backward check keeps it, and the causes together beat the round's
-      // base on the held-out windows.
-      const CandidateResult* lead = nullptr;
-      for (const CandidateResult& c : results) {
-        if (c.relevant && c.delta_bic <= rule.max_delta_bic && c.p_value < rule.p_threshold &&
-            (lead == nullptr || c.delta_bic < lead->delta_bic)) {
-          lead = &c;
-        }
-      }
-      if (lead == nullptr || round + 1 >= o.max_found) break;
-      say("provisionally " + lead->name);
-      before_provisional = sel;
-      entered[lead->name] = static_cast<size_t>(round);
-      provisional = true;
-      report.provisional.push_back(lead->name);
-      add_cause(ev, train, held, *lead, o, &sel);
-      continue;
-    }
-    say("found " + best->name);
-    // The round's other causes that the held-out windows cannot tell from it.
-    const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
-    for (size_t i = 0; i < results.size(); ++i) {
-      const CandidateResult& c = results[i];
-      if (&c == best || !c.significant) continue;
-      const double p = p_chosen_beats_rival(best_figures, figures[i], windows);
-      if (p < o.alpha) continue;
-      report.rivals.push_back(
-          {best->name, c.name, c.params, p, best->delta_bic, c.delta_bic, best->gain, c.gain});
-    }
-    entered[best->name] = static_cast<size_t>(round);
-    add_cause(ev, train, held, *best, o, &sel);
-    if (provisional) {
-      provisional = false;
-      provisional_base = before_provisional;
-      joint_check = true;
-    }
+  Route route;
+  route.sel.base = nominal;
+  route.sel.base.static_friction_ratio = fit_ordinary_stiction(ev, train, nominal);
+  const double reference_ratio = route.sel.base.static_friction_ratio;
+  route.sel.current = route.sel.base;
+  route.sel.figures = figures_of(ev, route.sel.current, train, held);
+  std::optional<Fork> fork;
+  run_rounds(ctx, nullptr, &route, &fork);
+  finish_route(ctx, &route);
+  // The other route (Fork): from the first round whose decision could have gone another way, the
+  // other candidate takes the found cause's place and the selection runs on from there. The
+  // other route is reported when it keeps that candidate and its held-out path errors are
+  // significantly the lower ones (the one-sided signed rank at alpha); otherwise the first.
+  if (fork) {
+    say("the other route: " + fork->name + (fork->provisional ? " provisionally" : "") +
+        " in round " + std::to_string(fork->round + 1));
+    Route other = fork->state;
+    run_rounds(ctx, &*fork, &other, nullptr);
+    finish_route(ctx, &other);
+    AlternativeRoute a;
+    a.round = fork->round + 1;
+    a.lead = fork->name;
+    a.provisional = fork->provisional;
+    a.found_first = route.sel.chosen;
+    a.found_other = other.sel.chosen;
+    a.cost_first = sum_squares(route.sel.figures.held);
+    a.cost_other = sum_squares(other.sel.figures.held);
+    const bool kept = std::find(other.sel.chosen.begin(), other.sel.chosen.end(), fork->name) !=
+                      other.sel.chosen.end();
+    a.p_value = kept && other.sel.chosen != route.sel.chosen
+                    ? p_chosen_beats_rival(other.sel.figures, route.sel.figures, ctx.windows)
+                    : 1.0;
+    a.taken = a.p_value < o.alpha;
+    if (a.taken) route = std::move(other);
+    report.alternative.push_back(a);
   }
-  if (provisional) sel = before_provisional;  // the rounds ran out on top of it
-  report.backward = backward_check(ev, train, held, windows, rule, o, say, &sel);
-  if (joint_check) {
-    const JointCheck j = check_jointly(provisional_base.figures, provisional_base.chosen,
-                                       sel.figures, sel.chosen, parameter_count, windows, rule);
-    report.joint_p_value = j.decision.p_value;
-    if (!j.kept()) {
-      say("the causes found with a provisional one do not beat the model without them");
-      report.notes.push_back(j.rejection_note());
-      // The backward check's records are of the selection taken out.
-      report.backward.clear();
-      sel = provisional_base;
-    }
-  }
-  report.exchanges = exchange_check(ev, train, held, windows, rule, o, say, report.rounds, entered,
-                                    &sel, &report.backward);
+  Selection& sel = route.sel;
+  report.rounds = route.rounds;
+  if (!route.rounds.empty()) report.candidates = route.rounds.front();
+  report.none_frequency = route.none_frequency;
+  report.provisional = route.provisional_names;
+  report.pairs = route.pairs;
+  report.rivals = route.rivals;
+  report.backward = route.backward;
+  report.exchanges = route.exchanges;
+  report.joint_p_value = route.joint_p_value;
+  report.notes.insert(report.notes.end(), route.notes.begin(), route.notes.end());
   report.found = sel.chosen;
   // Rivals of causes the backward or exchange check took out, or that became causes, go.
   auto is_found = [&](const std::string& n) {

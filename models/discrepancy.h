@@ -200,6 +200,36 @@ struct ResidualCorrection {
 };
 
 /// A 95 % bootstrap interval of a fitted parameter.
+/// The other route of the forward selection (at most one): from the first round in which a
+/// cause was found while the decision could have gone another way - a lead the training windows
+/// support better failed only the size of its held-out gain or end MAPE, or a rival passed that
+/// the held-out windows cannot tell from the cause - that candidate takes the cause's place
+/// (a lead provisionally) and the selection runs on. The other route's causes are reported when
+/// they keep that candidate and their held-out path errors are significantly the lower ones.
+struct AlternativeRoute {
+  int round = 0;             ///< 1-based
+  std::string lead;          ///< the candidate that took the found cause's place
+  bool provisional = false;  ///< a lead (provisional), or a rival (a cause)
+  std::vector<std::string> found_first, found_other;
+  double cost_first = 0.0, cost_other = 0.0;  ///< the robust cost over the held-out windows
+  /// One-sided signed rank over the held-out windows: the other route's path errors the lower.
+  double p_value = 1.0;
+  bool taken = false;  ///< the other route's causes are reported
+};
+
+/// Two candidates fitted together, tried when a round finds no cause and no lead: effects can
+/// cancel so that no single one is supported (a shorter delay beside a stronger field and a
+/// slope). A pair that passes the rule with both parameter counts enters as two causes.
+struct PairEntry {
+  int round = 0;  ///< 1-based
+  std::string first, second;
+  double delta_bic = 0.0;  ///< training, against the round's base
+  double p_value = 1.0;    ///< held-out, one-sided Wilcoxon signed-rank
+  double gain = 0.0;       ///< 1 - held-out path error / the base's
+  bool end_mape_improves = false;
+  bool significant = false;
+};
+
 struct ParameterRange {
   double lo = NAN, hi = NAN;
   double resolution = NAN;  ///< the fit's finest step: the interval is never narrower
@@ -234,6 +264,10 @@ struct DiscrepancyReport {
   /// Candidates that entered provisionally (no cause in their round, but the training windows'
   /// support): effects can mask each other until one is modelled (docs/discrepancy.md).
   std::vector<std::string> provisional;
+  /// The pairs tried (PairEntry).
+  std::vector<PairEntry> pairs;
+  /// The other route, when one was followed (models/discrepancy.h, AlternativeRoute).
+  std::vector<AlternativeRoute> alternative;
   /// With a provisional entry followed by a cause: the held-out p of the causes from then on
   /// against the selection before them (NaN when no such check was made).
   double joint_p_value = NAN;

@@ -119,6 +119,31 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                       {"rival_gain", num(v.rival_gain)}});
   }
   j["rivals"] = rivals;
+  Json alternative = Json::array();
+  for (const AlternativeRoute& a : r.alternative) {
+    alternative.push_back({{"round", a.round},
+                           {"lead", a.lead},
+                           {"provisional", a.provisional},
+                           {"p_value", num(a.p_value)},
+                           {"found_first", a.found_first},
+                           {"found_other", a.found_other},
+                           {"heldout_cost_first", num(a.cost_first)},
+                           {"heldout_cost_other", num(a.cost_other)},
+                           {"taken", a.taken}});
+  }
+  j["alternative"] = alternative;
+  Json pairs = Json::array();
+  for (const PairEntry& e : r.pairs) {
+    pairs.push_back({{"round", e.round},
+                     {"first", e.first},
+                     {"second", e.second},
+                     {"delta_bic", num(e.delta_bic)},
+                     {"p_value", num(e.p_value)},
+                     {"gain", num(e.gain)},
+                     {"end_mape_improves", e.end_mape_improves},
+                     {"significant", e.significant}});
+  }
+  j["pairs"] = pairs;
   j["provisional"] = r.provisional;
   j["withdrawn"] = r.withdrawn;
   j["joint_p_value"] = num(r.joint_p_value);
@@ -311,11 +336,43 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     }
     md += "\n";
   }
+  auto names_of = [](const std::vector<std::string>& v) {
+    std::string t;
+    for (const std::string& n : v) t += (t.empty() ? "" : ", ") + n;
+    return t.empty() ? std::string("none") : t;
+  };
+  for (const AlternativeRoute& a : r.alternative) {
+    md += "- The other route: in round " + std::to_string(a.round) + " a cause was found while " +
+          a.lead +
+          (a.provisional ? ", better supported by the training windows, failed only the size of "
+                           "its held-out gain or end MAPE"
+                         : " passed too and the held-out windows could not tell them apart") +
+          "; with " + a.lead + (a.provisional ? " entered provisionally" : " entered") +
+          " there the selection found " + names_of(a.found_other) + " (held-out cost " +
+          fixed(a.cost_other, 3) + ") against " + names_of(a.found_first) + " (" +
+          fixed(a.cost_first, 3) + "; its path errors the lower: p " +
+          (a.p_value < 1e-4 ? std::string("< 1e-4") : fixed(a.p_value, 4)) +
+          "): " + (a.taken ? "the other route is reported" : "the first route is reported") + ".\n";
+  }
+  if (!r.alternative.empty()) md += "\n";
+  for (const PairEntry& e : r.pairs) {
+    md += "- Round " + std::to_string(e.round) + " found no cause and no lead alone; " + e.first +
+          " with " + e.second + " together: delta BIC " + fixed(e.delta_bic, 1) +
+          ", path error gain " + fixed(100.0 * e.gain, 1) + " %, p " +
+          (e.p_value < 1e-4 ? std::string("< 1e-4") : fixed(e.p_value, 4)) + ", end MAPE " +
+          (e.end_mape_improves ? "better" : "worse") + ": " +
+          (e.significant ? "they pass together" : "not passing") + ".\n";
+  }
+  if (!r.pairs.empty()) md += "\n";
+  const bool other_taken = !r.alternative.empty() && r.alternative.front().taken;
   for (const std::string& p : r.provisional) {
     md +=
-        "- " + p +
-        " entered provisionally: no candidate passed alone in its round, and the training "
-        "windows supported it best (effects can mask each other until one is modelled); " +
+        "- " + p + " entered provisionally: " +
+        (other_taken && p == r.alternative.front().lead
+             ? std::string("the other route's lead")
+             : std::string("no candidate passed alone in its round")) +
+        ", and the training windows supported it best (effects can mask each other until one "
+        "is modelled); " +
         (std::find(r.found.begin(), r.found.end(), p) != r.found.end()
              ? "the causes found on top of it kept it"
              : "it was taken out again") +

@@ -2,16 +2,17 @@
 # The paper's pipeline on the physical twin, as on the rig (docs/twin.md, "Closed loop in the
 # physical twin"): the twin in the CFD's air with physical drag; the Appendix D collection; eq. (8)
 # identified from it in the CFD-fitted field model; then the path scenarios and the octagon with
-# the paper's own CEM settings (section V-B/C: the scenario files' retuned Sigma0 put back to
-# 20.9 cm^2), seeds 1..N, planning with that model. Ends with the batch report (success rates,
+# the paper's own CEM settings (section V-B/C, as the scenario files have them), seeds 1..N,
+# planning with that model. Ends with the batch report (success rates,
 # median times and path errors) to set beside Table I. With --discrepancy, then what a rig's user
 # does next: the closed-loop logs of other seeds analysed (`airtwin discrepancy`), and the same
 # batch again planning with the extended model.
 # Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--first-seed F] [--discrepancy]
 #        [--physics TYPE:k=v,...]
 #        [--no-formation | --formation-time-scale X] [--still-front] [--model FILE]
-#        [--multi] [--cotton-physics cotton:k=v,...] [--settings paper|files|files-no-scan]
-#        [--airtwin PATH] [--out DIR]
+#        [--multi] [--cotton-physics cotton:k=v,...] [--airtwin PATH] [--out DIR]
+#   --physics, --cotton-physics  other physical parameters than the twin's calibrated defaults
+#                (airtwin's --object-physics)
 #   --no-formation  each object gets the reached orientation's whole air at once (airtwin's
 #                --no-air-formation; by default the air forms, at half the CFD pulses' times)
 #   --formation-time-scale X  the formation's times: the pulses' times X (airtwin's
@@ -29,25 +30,19 @@
 #   --multi      also the multi-object tasks: the aggregation with the scenario file's settings
 #                and with the paper's (mu0 41.8 cm, Sigma0 20.9 cm^2), and the sorting, its
 #                cotton wads collected and identified as the tracer is (seed 202)
-#   --cotton-physics  the wads' physical parameters (default: the calibration's best in the
-#                CFD air, docs/twin.md)
-#   --settings   the path scenarios' CEM: the paper's (default), the scenario files' as shipped
-#                (Sigma0 retuned, the floor scanned when the line search is blind), or the
-#                files' without the scan
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seeds=10
 first_seed=1
 discrepancy=0
-physics="tracer:cd=0.35,mu_k=0.4,mu_s_ratio=1.4,cl=0.2"
+physics=""
 airtwin=build/airtwin
 out=results/physical_twin_closed_loop
 formation=()
 model=""
 multi=0
-settings=paper
-cotton_physics="cotton:cd=0.9,mu_k=0.45,mu_s_ratio=1.3,cl=0.2"
+cotton_physics=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --seeds) seeds="$2"; shift 2 ;;
@@ -60,23 +55,17 @@ while [ $# -gt 0 ]; do
     --physics) physics="$2"; shift 2 ;;
     --multi) multi=1; shift ;;
     --cotton-physics) cotton_physics="$2"; shift 2 ;;
-    --settings) settings="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     -h|--help) sed -n '2,36p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
-case "$settings" in
-  paper) strip=(-e '^  variance0_m2:' -e '^  scan_step_m:') ;;
-  files) strip=() ;;
-  files-no-scan) strip=(-e '^  scan_step_m:') ;;
-  *) echo "physical_twin_closed_loop.sh: --settings: '$settings' is not paper, files or files-no-scan" >&2; exit 2 ;;
-esac
 [ -x "$airtwin" ] || { echo "physical_twin_closed_loop.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
 
 table=models/data/cfd_fitted_field_model.json
-twin=(--air cfd --drag physical --object-physics "$physics" "${formation[@]}")
+twin=(--air cfd --drag physical "${formation[@]}")
+[ -z "$physics" ] || twin+=(--object-physics "$physics")
 mkdir -p "$out/scenes"
 rm -rf "$out/batch" "$out/batch_multi" "$out/discrepancy_runs" "$out/discrepancy" \
   "$out/batch_extended" "$out/batch_multi_extended" "$out/sorting_discrepancy_runs" \
@@ -93,16 +82,7 @@ else
     --out "$out/tracer_model.json" | sed -n 2,3p
 fi
 
-# The paper's CEM settings: the files differ from the code's defaults (the paper's) only where
-# they retune Sigma0 for the mirror twin and scan the floor when the line search is blind; the
-# octagon already uses the defaults. --settings keeps the files' lines, or all but the scan.
-for name in line square letter_A octagon; do
-  if [ ${#strip[@]} -eq 0 ]; then
-    cp "scenes/$name.yaml" "$out/scenes/$name.yaml"
-  else
-    grep -v "${strip[@]}" "scenes/$name.yaml" > "$out/scenes/$name.yaml"
-  fi
-done
+for name in line square letter_A octagon; do cp "scenes/$name.yaml" "$out/scenes/$name.yaml"; done
 
 seed_range=(--seeds "$seeds" --first-seed "$first_seed")
 "$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml "${seed_range[@]}" --quiet \
@@ -126,7 +106,7 @@ fi
 
 # The multi-object tasks (section V-C). The wads: Appendix D in the twin, eq. (8)'s terms
 # identified as the tracer's were.
-twin+=(--object-physics "$cotton_physics")
+[ -z "$cotton_physics" ] || twin+=(--object-physics "$cotton_physics")
 "$airtwin" collect --object cotton --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
   --out "$out/cotton_collection.csv" > "$out/collect_cotton.log" 2>&1
 "$airtwin" identify "$out/cotton_collection.csv" --object cotton --table "$table" --terms 1,v,vair \

@@ -28,19 +28,21 @@ ObjectTypeParameters ObjectTypeParameters::tracer() {
   p.static_friction_ratio = 1.0;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 2.0 / 3.0 * kPi * r * r * r;  // 7.1e-6 m^3
-  // Physical drag (DragLaw::kPhysical): a hemisphere lying on its face meets horizontal air with
-  // a half disc, pi r^2 / 2 = 3.5e-4 m^2; C_D 0.4, a hemisphere's convex side to the flow
-  // (0.34-0.42; Hoerner, Fluid-Dynamic Drag, 1965); Re on the diameter.
-  p.drag_coefficient = 0.4;
+  // Physical drag (DragLaw::kPhysical), as calibrated by the paper's protocol within the ranges
+  // below (docs/twin.md, "Calibrating it"). A hemisphere lying on its face meets horizontal air
+  // with a half disc, pi r^2 / 2 = 3.5e-4 m^2; C_D of a hemisphere's convex side to the flow
+  // 0.34-0.42 (Hoerner, Fluid-Dynamic Drag, 1965); Re on the diameter.
+  p.drag_coefficient = 0.35;
   p.frontal_area_m2 = 0.5 * kPi * r * r;
   p.drag_length_m = p.diameter_m;
-  // Expanded polystyrene sliding on a smooth hard floor: 0.3-0.5; 0.35 to start.
-  p.physical_kinetic_friction = 0.35;
-  p.physical_static_friction_ratio = 1.2;  // foam on a hard floor
+  // Expanded polystyrene sliding on a smooth hard floor: 0.3-0.5.
+  p.physical_kinetic_friction = 0.4;
+  // Static over kinetic, foam on a hard floor: 1-1.4 (the protocol cannot tell them apart).
+  p.physical_static_friction_ratio = 1.4;
   // Lift of a hemisphere on a floor on its footprint pi r^2: 0.69 in potential flow with the
   // free-stream pressure under the base (the suction over the dome); separation behind it takes
-  // some of that away. 0.3 to start, a calibration parameter within [0, 0.69].
-  p.lift_coefficient = 0.3;
+  // some of that away: within [0, 0.69].
+  p.lift_coefficient = 0.2;
   return p;
 }
 
@@ -49,18 +51,19 @@ ObjectTypeParameters ObjectTypeParameters::cotton() {
   p.static_friction_ratio = 1.0;
   const double r = 0.5 * p.diameter_m;
   p.pressure_volume_m3 = 0.1 * (4.0 / 3.0 * kPi * r * r * r);  // 6.5e-6 m^3
-  // Physical drag: the wad flattened to 0.6 of its width in z (sim/scene_builder.h) meets the air
-  // with ~0.6 pi r^2 = 1.2e-3 m^2; a fibre wad is porous, so its C_D lies below a solid bluff
-  // body's ~1 and above a sphere's 0.47: 0.6 to start, a calibration parameter within [0.3, 1.2].
-  p.drag_coefficient = 0.6;
+  // Physical drag, calibrated as the tracer's (docs/twin.md). The wad flattened to 0.6 of its
+  // width in z (sim/scene_builder.h) meets the air with ~0.6 pi r^2 = 1.2e-3 m^2; a fibre wad is
+  // porous, so its C_D lies below a solid bluff body's ~1 and above a sphere's 0.47: within
+  // [0.3, 1.2].
+  p.drag_coefficient = 0.9;
   p.frontal_area_m2 = 0.6 * kPi * r * r;
   p.drag_length_m = p.diameter_m;
-  // Cotton fibres on a smooth hard floor: 0.3-0.6; 0.4 to start.
-  p.physical_kinetic_friction = 0.4;
+  // Cotton fibres on a smooth hard floor: 0.3-0.6.
+  p.physical_kinetic_friction = 0.45;
   p.physical_static_friction_ratio = 1.3;  // fibres on a hard floor
-  // A porous wad: air passes through and under it, so little suction builds over it; 0.1 to
-  // start, within [0, 0.3].
-  p.lift_coefficient = 0.1;
+  // A porous wad: air passes through and under it, so little suction builds over it: within
+  // [0, 0.3].
+  p.lift_coefficient = 0.2;
   return p;
 }
 

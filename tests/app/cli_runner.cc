@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "tests/support/scratch_dir.h"
 
@@ -39,6 +40,20 @@ int count_lines(const std::string& text) {
   for (char c : text) n += (c == '\n');
   if (!text.empty() && text.back() != '\n') ++n;
   return n;
+}
+
+const std::string& line_with_wide_start() {
+  static const std::string path = [] {
+    std::string text = file_text(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml");
+    const std::string paper = "  variance0_m2: 20.9e-4\n";
+    const size_t at = text.find(paper);
+    if (at == std::string::npos) throw std::runtime_error("scenes/line.yaml: no " + paper);
+    text.replace(at, paper.size(), "  variance0_m2: 0.02\n  scan_step_m: 0.1\n");
+    const std::string file = scratch_dir("line_with_wide_start") + "/line.yaml";
+    std::ofstream(file, std::ios::binary) << text;
+    return file;
+  }();
+  return path;
 }
 
 }  // namespace airtwin::testing

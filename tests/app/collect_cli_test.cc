@@ -26,37 +26,43 @@ void expect_usage_error(const std::string& args, const std::string& fragment) {
 
 TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   const std::string d = scratch_dir("collect");
+  // The mirror first (the model's air, eq. (8) drag); the default twin is the physical one.
   const std::string quick = "collect --per-tilt 2 --wait 0.5 --quiet --seed 4 ";
-  const auto r = run_airtwin(quick + "--out " + d + "/a/data.csv");
+  const std::string mirror = quick + "--air model --drag eq8 ";
+  const auto r = run_airtwin(mirror + "--out " + d + "/a/data.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("collected 4 tracer trajectories"), std::string::npos) << r.out;
   const TrajectorySet set = read_trajectory_csv(d + "/a/data.csv");
   ASSERT_EQ(set.trajectories.size(), 4u);
   for (const Trajectory& tr : set.trajectories) EXPECT_EQ(tr.samples.size(), 81u);
-  ASSERT_EQ(run_airtwin(quick + "--threads 2 --out " + d + "/b.csv").exit_code, 0);
+  ASSERT_EQ(run_airtwin(mirror + "--threads 2 --out " + d + "/b.csv").exit_code, 0);
   EXPECT_EQ(read_text_file(d + "/a/data.csv"), read_text_file(d + "/b.csv"));
   // Without --quiet, progress goes to stderr as plain lines when it is not a terminal.
-  const auto loud = run_airtwin("collect --per-tilt 2 --wait 0.5 --seed 4 --out " + d + "/l.csv");
+  const auto loud = run_airtwin(
+      "collect --per-tilt 2 --wait 0.5 --seed 4 --air model --drag eq8 --out " + d + "/l.csv");
   ASSERT_EQ(loud.exit_code, 0) << loud.err;
   EXPECT_NE(loud.err.find("collect 4/4 trials"), std::string::npos) << loud.err;
   EXPECT_EQ(loud.err.find('\r'), std::string::npos) << loud.err;
   EXPECT_EQ(read_text_file(d + "/a/data.csv"), read_text_file(d + "/l.csv"));
   // An effect changes what the twin does, and the run says which.
-  const auto e = run_airtwin(quick + "--effect field_scale:factor=1.5 --out " + d + "/c.csv");
+  const auto e = run_airtwin(mirror + "--effect field_scale:factor=1.5 --out " + d + "/c.csv");
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.out.find("field_scale:factor=1.5"), std::string::npos) << e.out;
   EXPECT_NE(read_text_file(d + "/a/data.csv"), read_text_file(d + "/c.csv"));
   // The CFD's air: other trajectories than the model's, the same for the same seed, and said.
-  const auto cfd = run_airtwin(quick + "--air cfd --out " + d + "/cfd.csv");
+  const auto cfd = run_airtwin(quick + "--air cfd --drag eq8 --out " + d + "/cfd.csv");
   ASSERT_EQ(cfd.exit_code, 0) << cfd.err;
   EXPECT_NE(cfd.out.find("cfd air"), std::string::npos) << cfd.out;
-  ASSERT_EQ(run_airtwin(quick + "--air cfd --out " + d + "/cfd2.csv").exit_code, 0);
+  ASSERT_EQ(run_airtwin(quick + "--air cfd --drag eq8 --out " + d + "/cfd2.csv").exit_code, 0);
   EXPECT_EQ(read_text_file(d + "/cfd.csv"), read_text_file(d + "/cfd2.csv"));
   EXPECT_NE(read_text_file(d + "/a/data.csv"), read_text_file(d + "/cfd.csv"));
   // Physical drag in the CFD's air: other trajectories again.
   const auto phys = run_airtwin(quick + "--air cfd --drag physical --out " + d + "/phys.csv");
   ASSERT_EQ(phys.exit_code, 0) << phys.err;
   EXPECT_NE(read_text_file(d + "/cfd.csv"), read_text_file(d + "/phys.csv"));
+  // ... which is the default twin.
+  ASSERT_EQ(run_airtwin(quick + "--out " + d + "/default.csv").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/phys.csv"), read_text_file(d + "/default.csv"));
   // Its physical parameters set from the command line change the trajectories too.
   const auto heavy = run_airtwin(quick + "--air cfd --drag physical --object-physics " +
                                  "tracer:mass_g=0.176,mu_k=0.5 --out " + d + "/heavy.csv");
@@ -70,8 +76,8 @@ TEST(CollectCli, TheImplicitIntegratorSurvivesTheTumbleThatStopsEuler) {
   // implicit integrator completes it.
   const std::string d = scratch_dir("collect_integrator");
   const std::string args =
-      "collect --object tracer --per-tilt 50 --lead-in 0.5 --quiet --seed 3 "
-      "--effect pressure_gradient:strength=25,length=0.2145 ";
+      "collect --object tracer --per-tilt 50 --lead-in 0.5 --quiet --seed 3 --air model "
+      "--drag eq8 --effect pressure_gradient:strength=25,length=0.2145 ";
   const auto euler = run_airtwin(args + "--out " + d + "/euler.csv");
   EXPECT_NE(euler.exit_code, 0);
   EXPECT_NE(euler.err.find("object '26' moves faster than 100 m/s"), std::string::npos)
@@ -140,23 +146,23 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --effect stiction:ratio=0.5 --out x.csv", "stiction.ratio");
   expect_usage_error("collect", "--out");
   expect_usage_error("collect --air wind --out x.csv", "--air: expected cfd or model, got 'wind'");
-  expect_usage_error("collect --cfd data --out x.csv", "--cfd needs --air cfd");
+  expect_usage_error("collect --air model --cfd data --out x.csv", "--cfd needs --air cfd");
   expect_usage_error("collect --drag glue --out x.csv", "--drag: expected eq8 or physical");
   expect_usage_error(
       "collect --air cfd --no-air-formation --air-formation-time-scale 1 --out x.csv",
       "--air-formation-time-scale needs the formation (drop --no-air-formation)");
-  expect_usage_error("collect --air-formation-time-scale 1 --out x.csv",
+  expect_usage_error("collect --air model --air-formation-time-scale 1 --out x.csv",
                      "--air-formation-time-scale needs --air cfd");
   expect_usage_error("collect --air cfd --air-formation --no-air-formation --out x.csv",
                      "excludes");
   expect_usage_error("collect --air cfd --air-formation --air-formation-time-scale 11 --out x.csv",
                      "--air-formation-time-scale: expected (0, 10]");
-  expect_usage_error("collect --air-front-co-flow 0 --out x.csv",
+  expect_usage_error("collect --air model --air-front-co-flow 0 --out x.csv",
                      "--air-front-co-flow and --air-front-counter-flow need --air cfd");
   expect_usage_error("collect --air cfd --air-front-counter-flow 2.5 --out x.csv",
                      "--air-front-counter-flow: expected [0, 2]");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
-  expect_usage_error("collect --object-physics tracer:mu_k=0.4 --out x.csv",
+  expect_usage_error("collect --drag eq8 --object-physics tracer:mu_k=0.4 --out x.csv",
                      "--object-physics: object physics 'tracer:mu_k=0.4': tracer.mu_k belongs to "
                      "the physical drag law");
   expect_usage_error("collect --drag physical --object-physics tracer:cd=9 --out x.csv",
@@ -178,7 +184,7 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   EXPECT_NE(no_calib.err.find("missing.yaml"), std::string::npos) << no_calib.err;
   expect_usage_error("calibrate-dynamics --iterations 0 --out x.json", "--iterations");
   expect_usage_error("calibrate-dynamics --target 1,2 --out x.json", "--target");
-  expect_usage_error("calibrate-dynamics --search cd=0.3:1:3 --out x.json",
+  expect_usage_error("calibrate-dynamics --drag eq8 --search cd=0.3:1:3 --out x.json",
                      "--search needs --drag physical");
   expect_usage_error("calibrate-dynamics --drag physical --search cd=0.3:1 --out x.json",
                      "--search: expected KEY=MIN:MAX:N or KEY=VALUE");

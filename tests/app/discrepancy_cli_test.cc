@@ -51,6 +51,8 @@ std::string collect(const std::string& name, const std::string& effects, int see
                      std::string(lead_in ? "--lead-in 0.5 " : "") + "--quiet --seed " +
                      std::to_string(seed) + " --out " + raw;
   if (!effects.empty()) args += " " + effects;
+  // The mirror twin unless the caller names the air: the truth is the model plus what is hidden.
+  if (effects.find("--air ") == std::string::npos) args += " --air model --drag eq8";
   const testing::CliResult c = run_airtwin(args);
   EXPECT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_" + name + "_blind");
@@ -266,16 +268,15 @@ TEST(DiscrepancyCli, FindsTransportLag) {
 // issue): the forward selection adds them one by one, each refitted on top of the ones before,
 // and the backward check keeps a cause only when the others, refitted without it, do
 // significantly worse on the held-out windows.
-void expect_found_jointly(const std::vector<Hidden>& hidden, int seed) {
-  RandomStream rng(testing::test_seed(), RandomPurpose::kAnalysis, static_cast<uint64_t>(seed));
-  std::vector<Drawn> drawn;
+// Effects `hidden` at their `drawn` magnitudes, collected at `seed`, must be found jointly.
+void expect_drawn_found_jointly(const std::vector<Hidden>& hidden, const std::vector<Drawn>& drawn,
+                                int seed, json* report = nullptr) {
   std::string flags, name;
   json expected = json::array();
-  for (const Hidden& h : hidden) {
-    drawn.push_back(draw(h, &rng));
-    flags += (flags.empty() ? "--effect " : " --effect ") + drawn.back().text;
-    name += (name.empty() ? "" : "+") + h.name;
-    expected.push_back(h.name);
+  for (size_t i = 0; i < hidden.size(); ++i) {
+    flags += (flags.empty() ? "--effect " : " --effect ") + drawn[i].text;
+    name += (name.empty() ? "" : "+") + hidden[i].name;
+    expected.push_back(hidden[i].name);
   }
   SCOPED_TRACE("hidden: " + flags);
   std::printf("hidden effects: %s (collection seed %d)\n", flags.c_str(), seed);
@@ -288,6 +289,20 @@ void expect_found_jointly(const std::vector<Hidden>& hidden, int seed) {
                 b["kept"].get<bool>() ? "needed" : "not needed");
   }
   json found = r["found"];
+  // Beside the transport lag the twin's own push near s may show, as in FindsTransportLag
+  // (expect_only_companions): named for what it is, its length within 25 % of b.
+  const bool push_may_show = std::any_of(hidden.begin(), hidden.end(),
+                                         [](const Hidden& h) { return h.name == "transport_lag"; });
+  const auto push = std::find(found.begin(), found.end(), "pressure_gradient");
+  if (push_may_show && push != found.end() &&
+      std::find(expected.begin(), expected.end(), "pressure_gradient") == expected.end()) {
+    found.erase(push);
+    const double b = AirForceParameters{}.pressure_radius_m;
+    const double length = r["extensions"]["pressure_gradient"]["length"].get<double>();
+    EXPECT_LE(std::abs(length - b), 0.25 * b) << "pressure_gradient.length " << length;
+    std::printf("also named: the twin's push near s, pressure_gradient length %.4g m (b %.4g m)\n",
+                length, b);
+  }
   std::sort(found.begin(), found.end());
   std::sort(expected.begin(), expected.end());
   ASSERT_EQ(found, expected) << name << ": found " << r["found"].dump();
@@ -315,6 +330,20 @@ void expect_found_jointly(const std::vector<Hidden>& hidden, int seed) {
     EXPECT_TRUE(checked) << name << " has no backward check against the others found: "
                          << r["backward"].dump();
   }
+  if (report != nullptr) *report = r;
+}
+
+// Magnitudes drawn from the test seed; the collection seed as in expect_found: `base_seed` in
+// CI, drawn with the test seed in the acceptance tier.
+void expect_found_jointly(const std::vector<Hidden>& hidden, int base_seed) {
+  RandomStream rng(testing::test_seed(), RandomPurpose::kAnalysis,
+                   static_cast<uint64_t>(base_seed));
+  std::vector<Drawn> drawn;
+  for (const Hidden& h : hidden) drawn.push_back(draw(h, &rng));
+  const int seed = testing::acceptance_tier()
+                       ? base_seed + 1000 * static_cast<int>(1 + testing::test_seed() % 1000)
+                       : base_seed;
+  expect_drawn_found_jointly(hidden, drawn, seed);
 }
 
 // The joint cases: effects whose signatures differ (a pull of one direction everywhere, the air's
@@ -349,6 +378,61 @@ TEST(DiscrepancyCli, FindsTwoEffectsJointly) {
 TEST(DiscrepancyCli, FindsThreeEffectsJointly) {
   if (!testing::acceptance_tier()) GTEST_SKIP() << "acceptance tier only (a 3-effect analysis)";
   expect_found_jointly({kSlope, kScale, kDelay}, 44);
+}
+
+// Draws that a plain forward selection got wrong (docs/discrepancy.md section 2), kept in CI as
+// they were drawn: each needs one of the selection's ways around effects that mask each other.
+Drawn fixed_draw(const std::string& text, std::vector<double> truth) { return {text, truth}; }
+
+TEST(DiscrepancyCli, FollowsTheOtherRouteWhenAWeakerCausePassesFirst) {
+  // Test seed 102 at collection seed 44: transport_lag passed in round 1 and was named alone,
+  // while the delay (delta BIC -40 against the lag's -22) failed only its held-out end MAPE.
+  json r;
+  expect_drawn_found_jointly(
+      {kSlope, kScale, kDelay},
+      {fixed_draw("floor_slope:angle_deg=4.8736,direction_deg=315.2992", {4.8736, 315.2992}),
+       fixed_draw("field_scale:factor=1.2739", {1.2739}),
+       fixed_draw("response_delay:tau_s=0.7257", {0.7257})},
+      44, &r);
+  if (::testing::Test::HasFatalFailure()) return;
+  ASSERT_EQ(r["alternative"].size(), 1u) << r.dump(1);
+  EXPECT_EQ(r["alternative"][0]["lead"], "response_delay");
+  EXPECT_TRUE(r["alternative"][0]["taken"].get<bool>()) << r["alternative"].dump(1);
+  EXPECT_LT(r["alternative"][0]["heldout_cost_other"].get<double>(),
+            r["alternative"][0]["heldout_cost_first"].get<double>());
+}
+
+TEST(DiscrepancyCli, FollowsTheOtherRouteWhenARivalCannotBeToldApart) {
+  // Test seed 103's offset and delay at its acceptance collection seed: a field scale of 0.81
+  // won round 1 by a delta BIC of 0.7 over the delay (both shorten every push), and nothing
+  // passed on top of it.
+  json r;
+  expect_drawn_found_jointly(
+      {kOffset, kDelay},
+      {fixed_draw("nozzle_offset:pan_deg=-7.0609,tilt_deg=5.4888", {-7.0609, 5.4888}),
+       fixed_draw("response_delay:tau_s=0.5152", {0.5152})},
+      104042, &r);
+  if (::testing::Test::HasFatalFailure()) return;
+  ASSERT_EQ(r["alternative"].size(), 1u) << r.dump(1);
+  EXPECT_EQ(r["alternative"][0]["lead"], "response_delay");
+  EXPECT_FALSE(r["alternative"][0]["provisional"].get<bool>());
+  EXPECT_TRUE(r["alternative"][0]["taken"].get<bool>()) << r["alternative"].dump(1);
+}
+
+TEST(DiscrepancyCli, FindsEffectsThatCancelAlone) {
+  // Test seed 105's draw at its acceptance collection seed: no candidate passed alone, nor as a
+  // lead (the best delta BIC -9.4), with a held-out end MAPE of 52.7 %.
+  json r;
+  expect_drawn_found_jointly(
+      {kSlope, kScale, kDelay},
+      {fixed_draw("floor_slope:angle_deg=4.0432,direction_deg=217.9466", {4.0432, 217.9466}),
+       fixed_draw("field_scale:factor=1.2180", {1.2180}),
+       fixed_draw("response_delay:tau_s=0.4151", {0.4151})},
+      106044, &r);
+  if (::testing::Test::HasFatalFailure()) return;
+  bool passed = false;
+  for (const json& p : r["pairs"]) passed = passed || p["significant"].get<bool>();
+  EXPECT_TRUE(passed) << r["pairs"].dump(1);
 }
 
 // Cotton wads: 27 bodies each, a slower drag rate (eq. (8)'s cotton coefficients), and a
@@ -476,8 +560,8 @@ TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
   // (docs/discrepancy.md).
   const std::string run = scratch_dir("discrepancy_closed_loop");
   const testing::CliResult c = run_airtwin(
-      "run " + std::string(AIRTWIN_SOURCE_DIR) +
-      "/scenes/line.yaml --seed 1 --quiet --effect field_scale:factor=1.15 --out " + run);
+      "run " + testing::line_with_wide_start() +
+      " --seed 1 --quiet --air model --drag eq8 --effect field_scale:factor=1.15 --out " + run);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_closed_loop_blind");
   std::ofstream(blind + "/log.csv") << read_file(run + "/log.csv");
@@ -504,7 +588,9 @@ TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
 TEST(DiscrepancyCli, SaysWhatCannotBeDecided) {
   // Five trials: too little data to decide anything; and no lead-in: no response delay.
   const std::string dir = scratch_dir("discrepancy_small");
-  ASSERT_EQ(run_airtwin("collect --per-tilt 3 --quiet --seed 5 --out " + dir + "/d.csv").exit_code,
+  ASSERT_EQ(run_airtwin("collect --per-tilt 3 --quiet --seed 5 --air model --drag eq8 --out " +
+                        dir + "/d.csv")
+                .exit_code,
             0);
   const json r = analyse(dir + "/d.csv", dir + "/out");
   EXPECT_FALSE(r["decidable"].get<bool>());

@@ -112,8 +112,12 @@ TEST(SceneCli, ExportCompilesToTheTwinsModel) {
   const LoadedModel exported(d + "/scene.xml");
   ASSERT_NE(exported.m, nullptr) << exported.error;
 
+  // The twin `scene` exports by default: physical drag (its friction is the physical law's).
   const Scenario scenario = read_scenario(kScenes + "sorting.yaml");
-  const Twin twin(scenario.scene, TwinParameters{}, AirFieldModel::with_default_table(), 3);
+  TwinParameters params;
+  params.scene.tracer.use_physical_drag();
+  params.scene.cotton.use_physical_drag();
+  const Twin twin(scenario.scene, params, AirFieldModel::with_default_table(), 3);
   const mjModel* m = twin.model();
   // The twin's model has the objects this test is about.
   ASSERT_EQ(twin.object_count(), 6u);

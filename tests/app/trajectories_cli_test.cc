@@ -99,8 +99,10 @@ TEST(TrajectoriesCli, CameraToModelAgreesWithTheTwinsTruth) {
   const std::string d = scratch_dir("trajectories_e2e");
   write_file(d + "/ring.yaml", ring_scenario());
   const std::string pan = "0", tilt = "12.09";
-  const auto render = run_airtwin("render " + d + "/ring.yaml --frames 80 --noise low --pan " +
-                                  pan + " --tilt " + tilt + " --seed 1 --quiet --out " + d + "/r");
+  // The mirror twin: the camera's chain is checked against the model its objects follow.
+  const auto render = run_airtwin(
+      "render " + d + "/ring.yaml --air model --drag eq8 --frames 80 --noise low --pan " + pan +
+      " --tilt " + tilt + " --seed 1 --quiet --out " + d + "/r");
   ASSERT_EQ(render.exit_code, 0) << render.err;
   // The render's nozzle log: its one command, from the first frame on.
   EXPECT_EQ(read_text_file(d + "/r/nozzle.csv"),
@@ -168,9 +170,9 @@ TEST(TrajectoriesCli, AppendixDTrialsFromACameraAgreeWithTheTwinsTruth) {
     write_file(dir + ".yaml", ring_scenario(trial.centre_x, trial.centre_y));
     // The camera's calibration views once, from the first trial's render.
     const auto render = run_airtwin(
-        "render " + dir + ".yaml --frames " + std::to_string(frames) + " --noise low --pan " +
-        trial.pan + " --tilt " + trial.tilt + " --seed " + std::to_string(i + 1) +
-        (i == 0 ? "" : " --calibration-views 0") + " --quiet --out " + dir);
+        "render " + dir + ".yaml --air model --drag eq8 --frames " + std::to_string(frames) +
+        " --noise low --pan " + trial.pan + " --tilt " + trial.tilt + " --seed " +
+        std::to_string(i + 1) + (i == 0 ? "" : " --calibration-views 0") + " --quiet --out " + dir);
     ASSERT_EQ(render.exit_code, 0) << render.err;
     // The recording: this trial's frames after the previous trials' frames.
     const int first = static_cast<int>(i) * frames;

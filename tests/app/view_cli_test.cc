@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,7 +38,7 @@ using testing::count_lines;
 using testing::run_airtwin;
 using testing::scratch_dir;
 
-const std::string kLine = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml";
+const std::string& line_file() { return testing::line_with_wide_start(); }
 constexpr int64_t kSteps = 20;  // 0.5 s of simulated time: the tracer is moving (~4 mm a frame)
 
 // Where the Xvfb program is, or "" (found on PATH as a shell would).
@@ -106,7 +107,7 @@ struct StopRun {};
 
 Reference reference_frame(int64_t index) {
   Reference r;
-  const Scenario scenario = read_scenario(kLine);
+  const Scenario scenario = read_scenario(line_file());
   ScenarioRunOptions options;
   options.seed = 1;
   std::unique_ptr<FrameRenderer> renderer;
@@ -166,12 +167,14 @@ class ViewCliTest : public ::testing::Test {
   }
   void TearDown() override { ::unsetenv("DISPLAY"); }
 
-  // `airtwin view scenes/line.yaml --seed 1` for kSteps frames from the top camera, at up to 64x
-  // real time; the screenshot read back.
+  // `airtwin view scenes/line.yaml --seed 1` in the mirror twin (as the offscreen reference
+  // below builds it) for kSteps frames from the top camera, at up to 64x real time; the
+  // screenshot read back.
   cv::Mat screenshot(const std::string& extra_flags) {
     const std::string shot = scratch_dir("view_cli") + "/shot.png";
     const testing::CliResult r =
-        run_airtwin("view '" + kLine + "' --seed 1 --camera top --speed 64 --steps " +
+        run_airtwin("view '" + line_file() +
+                    "' --seed 1 --air model --drag eq8 --camera top --speed 64 --steps " +
                     std::to_string(kSteps) + " --screenshot '" + shot + "' " + extra_flags);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "");
@@ -234,7 +237,9 @@ TEST_F(ViewCliTest, OverlayDrawsTheStagnationPointAndTheAir) {
 // file's mass, the pressure push near s does not) is elsewhere at frame kSteps.
 TEST_F(ViewCliTest, MjcfSceneIsTheOneShown) {
   const std::string d = scratch_dir("view_mjcf");
-  ASSERT_EQ(run_airtwin("scene '" + kLine + "' --seed 1 --out " + d).exit_code, 0);
+  ASSERT_EQ(run_airtwin("scene '" + line_file() + "' --seed 1 --air model --drag eq8 --out " + d)
+                .exit_code,
+            0);
   const std::string xml = testing::file_text(d + "/scene.xml");
   const std::string mass = "mass=\"0.00016000000000000001\"";
   ASSERT_NE(xml.find(mass), std::string::npos);
@@ -355,7 +360,9 @@ class ViewInputTest : public ViewCliTest {
     }
     ViewCliTest::SetUp();
   }
-  const std::string view_line_ = "'" + kLine + "' --seed 1 --paused ";
+  // The mirror twin (the model's air, eq. (8) drag): it needs no CFD cases read before the window
+  // opens, and these tests are of the window, not of the physics.
+  const std::string view_line_ = "'" + line_file() + "' --seed 1 --paused --air model --drag eq8 ";
 };
 
 // Paused, the run does not advance; each right arrow is one camera frame (25 ms), no more.
@@ -566,7 +573,7 @@ TEST(ViewCliErrors, MissingScenarioIsOneLine) {
 
 TEST(ViewCliErrors, NoDisplayIsOneLine) {
   ::unsetenv("DISPLAY");
-  const testing::CliResult r = run_airtwin("view '" + kLine + "' --seed 1");
+  const testing::CliResult r = run_airtwin("view '" + line_file() + "' --seed 1");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("DISPLAY is not set"), std::string::npos) << r.err;
@@ -575,7 +582,7 @@ TEST(ViewCliErrors, NoDisplayIsOneLine) {
 TEST(ViewCliErrors, DisplayWithoutServerIsOneLine) {
   // A display number no server listens on: the window process cannot open, and says why.
   ::setenv("DISPLAY", ":9917", 1);
-  const testing::CliResult r = run_airtwin("view '" + kLine + "' --seed 1");
+  const testing::CliResult r = run_airtwin("view '" + line_file() + "' --seed 1");
   ::unsetenv("DISPLAY");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
@@ -584,8 +591,8 @@ TEST(ViewCliErrors, DisplayWithoutServerIsOneLine) {
 
 TEST(ViewCliErrors, BadFlagsAreUsageErrors) {
   ::setenv("DISPLAY", ":9917", 1);
-  const testing::CliResult speed = run_airtwin("view '" + kLine + "' --speed 0");
-  const testing::CliResult shot = run_airtwin("view '" + kLine + "' --screenshot x.png");
+  const testing::CliResult speed = run_airtwin("view '" + line_file() + "' --speed 0");
+  const testing::CliResult shot = run_airtwin("view '" + line_file() + "' --screenshot x.png");
   ::unsetenv("DISPLAY");
   EXPECT_EQ(speed.exit_code, 2);
   EXPECT_EQ(count_lines(speed.err), 1) << speed.err;

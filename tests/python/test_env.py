@@ -8,7 +8,7 @@ import pytest
 
 import airtwin
 from airtwin.env import AirJetEnv, Box, CemPolicy
-from conftest import SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
+from conftest import MIRROR, SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
 
 LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 OCTAGON = os.path.join(SOURCE_DIR, "scenes/octagon.yaml")
@@ -27,7 +27,7 @@ def rollout(env, policy, seed):
 
 def test_the_controllers_actions_through_the_env_are_the_cli_run(tmp_path):
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", LINE, "--seed", 2, "--quiet", "--out", out)
+    status, _, stderr = run_cli("run", LINE, "--seed", 2, *MIRROR, "--quiet", "--out", out)
     assert status == 0, stderr
     env = AirJetEnv("line", seed=2)
     actions = []
@@ -133,7 +133,7 @@ def test_same_seed_same_bytes_and_other_seeds_differ():
 
 def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
     # A user's MJCF scene: `airtwin scene`'s export is the built scene to the last bit.
-    status, _, stderr = run_cli("scene", LINE, "--seed", 1, "--out", tmp_path / "scene")
+    status, _, stderr = run_cli("scene", LINE, "--seed", 1, *MIRROR, "--out", tmp_path / "scene")
     assert status == 0, stderr
     mjcf = str(tmp_path / "scene/scene.xml")
     built = airtwin.Twin(LINE, 1, 30.0, 20.0)
@@ -154,8 +154,8 @@ def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
         assert np.hypot(*(ends[name] - ends["eq8"])) > 0.01, name
     # The env takes the same options; a run with them through the module equals the CLI's.
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", LINE, "--seed", 1, "--drag", "physical", "--effect",
-                                "floor_slope", "--quiet", "--out", out)
+    status, _, stderr = run_cli("run", LINE, "--seed", 1, "--air", "model", "--drag", "physical",
+                                "--effect", "floor_slope", "--quiet", "--out", out)
     assert status == 0, stderr
     env = AirJetEnv("line", seed=1, drag="physical", effects=["floor_slope"])
     rollout(env, lambda obs, info: env.controller_action(), 1)
@@ -219,7 +219,7 @@ def test_vision_observations_are_the_cli_vision_run(tmp_path):
     rollout(env, lambda obs, info: env.controller_action(), 1)
     # The run of `airtwin run --vision` with the camera model the env calibrated.
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--vision", "--calib",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *MIRROR, "--vision", "--calib",
                                 env._vision["calib"], "--quiet", "--out", out)
     assert status == 0, stderr
     assert_same_run(env.result(), out)

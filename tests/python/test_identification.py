@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import run_cli
+from conftest import MIRROR, run_cli
 
 XI = (-2.66, 4.26, -8.53)  # the paper's tracer, eq. (8)
 DT_S = 0.025
@@ -84,7 +84,7 @@ def read_trajectories(path):
 
 def test_trajectories_identify_as_the_cli_identifies_the_same_file(tmp_path):
     data = tmp_path / "data.csv"
-    status, _, stderr = run_cli("collect", "--object", "tracer", "--tilts", "22.5,45",
+    status, _, stderr = run_cli("collect", "--object", "tracer", "--tilts", "22.5,45", *MIRROR,
                                 "--per-tilt", 6, "--seed", 1, "--out", data)
     assert status == 0, stderr
     status, _, stderr = run_cli("identify", data, "--object", "tracer", "--terms", "1,v,vair",

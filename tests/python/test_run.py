@@ -6,14 +6,15 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
+from conftest import (CFD_AIR_EQ8, MIRROR, SOURCE_DIR, assert_same_run, expect_cli_error,
+                      run_cli)
 
 LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 
 
 def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", LINE, "--seed", 2, "--quiet", "--out", out)
+    status, _, stderr = run_cli("run", LINE, "--seed", 2, *MIRROR, "--quiet", "--out", out)
     assert status == 0, stderr
     result = airtwin.run_scenario(LINE, 2)
     assert result.success and result.scenario == "line" and result.seed == 2
@@ -45,8 +46,7 @@ def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd", "--quiet", "--out",
-                                out)
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8, "--quiet", "--out", out)
     assert status == 0, stderr
     result = airtwin.run_scenario(str(scenario), 1, cfd=airtwin.CfdField.read_dir())
     assert result.log_csv() == (out / "log.csv").read_text()
@@ -64,7 +64,7 @@ def test_a_run_with_and_without_the_air_formation_equals_the_cli_run(tmp_path):
     assert formed.log_csv() == airtwin.run_scenario(str(scenario), 1, cfd=cfd,
                                                     air_formation=True).log_csv()
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8,
                                 "--no-air-formation", "--quiet", "--out", out)
     assert status == 0, stderr
     result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=False)
@@ -74,7 +74,7 @@ def test_a_run_with_and_without_the_air_formation_equals_the_cli_run(tmp_path):
     # Asked for in the model's air: an error in both front ends.
     with pytest.raises(ValueError, match="air_formation"):
         airtwin.run_scenario(str(scenario), 1, air="model", air_formation=True)
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-formation", "--out",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *MIRROR, "--air-formation", "--out",
                                 tmp_path / "bad")
     assert status != 0 and "--air-formation needs --air cfd" in stderr
 
@@ -83,7 +83,7 @@ def test_the_integrator_and_the_formation_time_scale_equal_the_cli_run(tmp_path)
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8,
                                 "--air-formation-time-scale", 0.25, "--integrator", "implicit",
                                 "--quiet", "--out", out)
     assert status == 0, stderr
@@ -111,7 +111,7 @@ def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air", "cfd",
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8,
                                 "--air-front-co-flow", 0, "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir()
@@ -122,7 +122,7 @@ def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
         airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_front_counter_flow=3.0)
     with pytest.raises(ValueError, match="air_front_co_flow: the carried front needs the CFD"):
         airtwin.run_scenario(str(scenario), 1, air="model", air_front_co_flow=0.5)
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-front-co-flow", 0.5,
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, *MIRROR, "--air-front-co-flow", 0.5,
                                 "--out", tmp_path / "bad")
     assert status != 0 and "--air-front-co-flow and --air-front-counter-flow need --air cfd" \
         in stderr
@@ -141,13 +141,13 @@ def test_a_run_with_the_controllers_models_equals_the_cli_run(tmp_path):
     data, model = tmp_path / "data.csv", tmp_path / "tracer.json"
     table = os.path.join(SOURCE_DIR, "models/data/cfd_fitted_field_model.json")
     for args in (("collect", "--object", "tracer", "--tilts", "22.5,45", "--per-tilt", 6,
-                  "--seed", 1, "--out", data),
+                  "--seed", 1, *MIRROR, "--out", data),
                  ("identify", data, "--object", "tracer", "--terms", "1,v,vair", "--out", model)):
         status, _, stderr = run_cli(*args)
         assert status == 0, stderr
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", LINE, "--seed", 1, "--model", model, "--table", table,
-                                "--quiet", "--out", out)
+    status, _, stderr = run_cli("run", LINE, "--seed", 1, *MIRROR, "--model", model, "--table",
+                                table, "--quiet", "--out", out)
     assert status == 0, stderr
     result = airtwin.run_scenario(LINE, 1, models=[str(model)], table=table)
     assert_same_run(result, out)

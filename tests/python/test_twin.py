@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import SOURCE_DIR, expect_cli_error, run_cli
+from conftest import MIRROR, SOURCE_DIR, expect_cli_error, run_cli
 
 OCTAGON = os.path.join(SOURCE_DIR, "scenes/octagon.yaml")
 
@@ -42,7 +42,7 @@ def test_replaying_a_runs_commands_gives_its_trajectories(tmp_path):
     files' printed angles cannot replay it (test_run.py compares a CFD run exactly)."""
     scenario = short_copy(tmp_path, OCTAGON, 6)
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 3, "--quiet", "--out", out)
+    status, _, stderr = run_cli("run", scenario, "--seed", 3, *MIRROR, "--quiet", "--out", out)
     assert status == 0, stderr
     commands = [(float(r["t"]), float(r["pan_deg"]), float(r["tilt_deg"]))
                 for r in read_csv(out / "nozzle.csv")]
@@ -140,8 +140,8 @@ def test_render_shows_the_same_frames_as_the_cli(tmp_path, air):
     frames = 21
     pan_deg, tilt_deg = airtwin.aim(0.15, 0.0)  # s beside the group: the jet moves it
     status, _, stderr = run_cli("render", OCTAGON, "--frames", frames, "--seed", 2, "--pan",
-                                repr(pan_deg), "--tilt", repr(tilt_deg), "--air", air, "--quiet",
-                                "--out", out)
+                                repr(pan_deg), "--tilt", repr(tilt_deg), "--air", air,
+                                "--drag", "eq8", "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir() if air == "cfd" else None
     twin = airtwin.Twin(OCTAGON, 2, pan_deg, tilt_deg, cfd=cfd)

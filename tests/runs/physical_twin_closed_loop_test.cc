@@ -27,25 +27,13 @@
 #include "runs/scenario_run.h"
 #include "scenes/scenario.h"
 #include "sim/collection.h"
-#include "sim/object_physics.h"
+#include "tests/support/physical_twin.h"
 
 namespace airtwin {
 namespace {
 
-std::shared_ptr<const CfdField> shipped_cfd() {
-  static const auto cfd =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  return cfd;
-}
-
-// The physical tracer chosen by the calibration (docs/twin.md, "Calibrating it"), in CFD air.
-TwinParameters physical_twin() {
-  TwinParameters p;
-  p.cfd_air = shipped_cfd();
-  p.scene.tracer.use_physical_drag();
-  apply_object_physics("tracer:cd=0.35,mu_k=0.4,mu_s_ratio=1.4,cl=0.2", &p.scene);
-  return p;
-}
+using testing::cfd_fitted_field;
+using testing::physical_twin;
 
 // Appendix D in the twin (collection seed 202), eq. (8)'s terms identified as the paper found
 // them, with identify's other defaults.
@@ -60,12 +48,8 @@ IdentifiedModel identified_tracer(const AirFieldModel& field) {
   return identify_trajectories(data, "tracer", field, identification);
 }
 
-AirFieldModel fitted_field() {
-  return read_air_field_model(AIRTWIN_SOURCE_DIR "/models/data/cfd_fitted_field_model.json");
-}
-
 TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLine) {
-  const AirFieldModel field = fitted_field();
+  const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
   ASSERT_TRUE(model.is_eq8());
   const ObjectDynamics xi = model.eq8();
@@ -79,9 +63,8 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
   EXPECT_NEAR(-xi.xi3 / xi.xi2, 2.0, 0.5);
 
   // The line with the paper's single-object CEM (mu0 41.8 cm, Sigma0 20.9 cm^2, 25 samples,
-  // 3 elites, 5 iterations), not the scenario file's settings for the mirror twin.
-  Scenario line = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/line.yaml");
-  line.controller = CemParameters::line_defaults();
+  // 3 elites, 5 iterations), as the scenario file has it.
+  const Scenario line = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/line.yaml");
   // Two seeds pin the pipeline's regressions; scripts/acceptance.sh holds the ten-seed floor.
   // Seeds 1-10 succeed 3 times (seeds 2, 4 and 5; docs/twin.md) and two meet the bounds below
   // (5 takes 85 s): seeds 2 and 4.
@@ -115,21 +98,19 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
 // the four path scenarios: 6/40 nominal, 40/40 extended (scripts/physical_twin_closed_loop.sh
 // --discrepancy).
 TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
-  const AirFieldModel field = fitted_field();
+  const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
   ASSERT_TRUE(model.is_eq8());
   std::map<std::string, ObjectDynamics> objects = {{"tracer", model.eq8()},
                                                    {"cotton", kCottonDynamics}};
-  auto paper_settings = [](const char* name) {
-    Scenario s = read_scenario(std::string(AIRTWIN_SOURCE_DIR "/scenes/") + name + ".yaml");
-    s.controller = CemParameters::line_defaults();
-    return s;
+  auto scenario_file = [](const char* name) {
+    return read_scenario(std::string(AIRTWIN_SOURCE_DIR "/scenes/") + name + ".yaml");
   };
-  const Scenario line = paper_settings("line");
+  const Scenario line = scenario_file("line");
 
   std::vector<TrajectorySet> logs;
   for (const char* name : {"line", "square", "letter_A"}) {
-    const Scenario scenario = paper_settings(name);
+    const Scenario scenario = scenario_file(name);
     for (const uint64_t seed : {101, 102}) {
       ScenarioRunOptions options;
       options.seed = seed;
@@ -177,7 +158,7 @@ TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
 // docs/twin.md), planning with the model identified above: every tracer in the zone, in a time
 // of the paper's kind (105 s). Seeds 1-10 all succeed in 58-90 s; seed 1 takes 72 s.
 TEST(PhysicalTwinClosedLoop, TheAggregationAsShippedCollectsEveryTracer) {
-  const AirFieldModel field = fitted_field();
+  const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
   ASSERT_TRUE(model.is_eq8());
   const Scenario aggregation = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/aggregation.yaml");

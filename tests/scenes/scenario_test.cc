@@ -65,12 +65,21 @@ void expect_same(const CemParameters& a, const CemParameters& b) {
   EXPECT_EQ(a.predict_transition, b.predict_transition);
 }
 
-// The single-tracer files retune Sigma0 for the twin's field and scan the floor when the line
-// search is blind (docs/controller.md).
+// The single-tracer files carry the paper's single-object CEM (section V-B), written out here
+// from the paper rather than from the code's defaults.
 CemParameters single_object_cem() {
-  CemParameters p = CemParameters::line_defaults();
-  p.variance0_m2 = 0.02;
-  p.scan_step_m = 0.1;
+  CemParameters p;
+  p.search = CemSearch::kLine;
+  p.horizon_s = 1.5;
+  p.penalty = 1000.0;
+  p.min_distance_m = 0.10;
+  p.mean0_m = 0.418;
+  p.variance0_m2 = 20.9e-4;
+  p.samples = 25;
+  p.elite = 3;
+  p.max_iterations = 5;
+  p.converged_variance_m2 = 0.3e-4;
+  p.scan_step_m = 0.0;  // never scans
   return p;
 }
 

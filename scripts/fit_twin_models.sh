@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The controller's models of the physical twin, made the way the paper made its rig's
+# (docs/twin.md, "The controller's models of the physical twin"):
+#   1. Appendix D in the twin (CFD air, physical drag; tracers and cotton wads, 50 trials at
+#      tilts 0 and 22.5 deg, collection seed 202) and eq. (8)'s terms identified from it
+#      (`identify --terms 1,v,vair` with the CFD-fitted field model, as the paper fitted its
+#      field to its CFD);
+#   2. closed-loop logs planned with them, at calibration seeds 101-105 (never the seeds the
+#      closed-loop figures are measured on): the line, the square, the letter A and the sorting;
+#   3. `airtwin discrepancy` on all those logs: the cause the identified model lacks, fitted to
+#      them, written as one extended model with both object types.
+# Writes OUT/{tracer,cotton}_identified.json, OUT/extended_model.json and the analysis in
+# OUT/discrepancy/; with --install also copies the three models to models/data/twin/, which the
+# twin's commands plan with by default. Deterministic: the same binary gives the same bytes.
+# ~15 min on 2 cores.
+#
+# Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] --out OUT
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+airtwin=build/airtwin
+out=""
+install=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --airtwin) airtwin="$2"; shift 2 ;;
+    --install) install=1; shift ;;
+    --out) out="$2"; shift 2 ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "fit_twin_models.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+[ -n "$out" ] || { echo "fit_twin_models.sh: --out OUT is required" >&2; exit 2; }
+[ -x "$airtwin" ] || { echo "fit_twin_models.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
+
+# The physical twin, named in full so that the models do not follow a change of the defaults.
+table=models/data/cfd_fitted_field_model.json
+twin=(--air cfd --drag physical)
+mkdir -p "$out"
+rm -rf "$out/logs" "$out/discrepancy"
+
+for object in tracer cotton; do
+  echo "fit_twin_models.sh: Appendix D with $object, identified" >&2
+  "$airtwin" collect --object "$object" --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
+    --quiet --out "$out/${object}_collection.csv"
+  "$airtwin" identify "$out/${object}_collection.csv" --object "$object" --table "$table" \
+    --terms 1,v,vair --out "$out/${object}_identify.json" > "$out/${object}_identify.txt"
+  # The record of the data names this script, not this machine's folders.
+  sed 's|^  "source": .*|  "source": "scripts/fit_twin_models.sh: Appendix D in the twin, collection seed 202"|' \
+    "$out/${object}_identify.json" > "$out/${object}_identified.json"
+done
+models=(--model "$out/tracer_identified.json" --model "$out/cotton_identified.json")
+
+echo "fit_twin_models.sh: closed-loop logs, seeds 101-105" >&2
+"$airtwin" batch scenes/{line,square,letter_A,sorting}.yaml --seeds 5 --first-seed 101 --logs \
+  --quiet "${twin[@]}" --table "$table" "${models[@]}" --out "$out/logs" > /dev/null
+echo "fit_twin_models.sh: the discrepancy analysis of the logs" >&2
+"$airtwin" discrepancy "$out"/logs/runs/*/seed-*.log.csv --quiet --table "$table" "${models[@]}" \
+  --out "$out/discrepancy"
+sed 's|^  "source": .*|  "source": "scripts/fit_twin_models.sh: closed-loop logs of line, square, letter_A and sorting, seeds 101-105"|' \
+  "$out/discrepancy/extended_model.json" > "$out/extended_model.json"
+
+if [ "$install" = 1 ]; then
+  mkdir -p models/data/twin
+  cp "$out/tracer_identified.json" "$out/cotton_identified.json" "$out/extended_model.json" \
+    models/data/twin/
+  echo "fit_twin_models.sh: installed in models/data/twin/" >&2
+fi
