@@ -202,14 +202,14 @@ struct ResidualCorrection {
 /// A 95 % bootstrap interval of a fitted parameter.
 /// The other route of the forward selection (at most one): from the first round in which a
 /// cause was found while the decision could have gone another way - a lead the training windows
-/// support better failed only the size of its held-out gain or end MAPE, or a rival passed that
-/// the held-out windows cannot tell from the cause - that candidate takes the cause's place
-/// (a lead provisionally) and the selection runs on. The other route's causes are reported when
+/// support better failed only the size of its held-out gain or end MAPE, or another cause passed
+/// too - that candidate takes the cause's place (a lead provisionally) and the selection runs
+/// on. The other route's causes are reported when
 /// they keep that candidate and their held-out path errors are significantly the lower ones.
 struct AlternativeRoute {
   int round = 0;             ///< 1-based
   std::string lead;          ///< the candidate that took the found cause's place
-  bool provisional = false;  ///< a lead (provisional), or a rival (a cause)
+  bool provisional = false;  ///< a lead (provisional), or another cause that passed
   std::vector<std::string> found_first, found_other;
   double cost_first = 0.0, cost_other = 0.0;  ///< the robust cost over the held-out windows
   /// One-sided signed rank over the held-out windows: the other route's path errors the lower.

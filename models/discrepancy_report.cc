@@ -346,7 +346,7 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           a.lead +
           (a.provisional ? ", better supported by the training windows, failed only the size of "
                            "its held-out gain or end MAPE"
-                         : " passed too and the held-out windows could not tell them apart") +
+                         : " passed too") +
           "; with " + a.lead + (a.provisional ? " entered provisionally" : " entered") +
           " there the selection found " + names_of(a.found_other) + " (held-out cost " +
           fixed(a.cost_other, 3) + ") against " + names_of(a.found_first) + " (" +
