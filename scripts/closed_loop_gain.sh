@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The closed-loop gain of the discrepancy analysis, effect by effect (docs/discrepancy.md):
+# The closed-loop gain of the discrepancy analysis, effect by effect (docs/discrepancy.md), in
+# the mirror twin (--air model --drag eq8: the truth is the model plus the hidden effect; the
+# physical twin's own gain is scripts/fit_twin_models.sh's and physical_twin_closed_loop.sh's):
 #   1. the twin collects Appendix D data with one hidden effect (100 tracer trials, 0.5 s lead-in);
 #   2. `airtwin discrepancy` names the cause and writes extended_model.json, from the CSV alone;
 #   3. a batch of the scenario over the seeds in the same twin, the controller planning with the
@@ -23,7 +25,7 @@ floor_slope:angle_deg=4,direction_deg=120 stiction:ratio=1.7
 nozzle_offset:pan_deg=8,tilt_deg=4 field_scale:factor=1.25
 transport_lag:pace_s_per_m=0.8"
 
-usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --airtwin) bin=$2; shift 2 ;;
@@ -44,6 +46,7 @@ out=$1
 [[ -x "$bin" ]] || { echo "closed_loop_gain.sh: no airtwin binary at $bin (build first)" >&2; exit 1; }
 [[ -f "$scenario" ]] || { echo "closed_loop_gain.sh: no scenario file $scenario" >&2; exit 1; }
 mkdir -p "$out"
+mirror=(--air model --drag eq8)
 
 # success rate, median completion time (successful runs), mean path error from a batch's runs.csv.
 summarise() {
@@ -66,12 +69,12 @@ for effect in $effects; do
   dir=$out/$name
   mkdir -p "$dir"
   "$bin" collect --object tracer --per-tilt 50 --lead-in 0.5 --seed 1 --effect "$effect" \
-    --quiet --out "$dir/data.csv" >/dev/null
+    "${mirror[@]}" --quiet --out "$dir/data.csv" >/dev/null
   "$bin" discrepancy "$dir/data.csv" --seed 1 --quiet --out "$dir/analysis" >/dev/null
   found=$(tr -d '\n' < "$dir/analysis/report.json" | sed -n 's/.*"found": *\[\([^]]*\)\].*/\1/p' | tr -d '" ')
-  "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" --quiet \
-    --out "$dir/nominal" >/dev/null
-  "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" --quiet \
-    --model "$dir/analysis/extended_model.json" --out "$dir/extended" >/dev/null
+  "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" "${mirror[@]}" \
+    --quiet --out "$dir/nominal" >/dev/null
+  "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" "${mirror[@]}" \
+    --quiet --model "$dir/analysis/extended_model.json" --out "$dir/extended" >/dev/null
   echo "| $effect | ${found:-none} | $(summarise "$dir/nominal/runs.csv") | $(summarise "$dir/extended/runs.csv") |"
 done
