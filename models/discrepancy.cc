@@ -457,6 +457,8 @@ struct Fork {
 bool enter_pair(const RouteContext& c, int round, const std::vector<CandidateResult>& results,
                 Route* route) {
   constexpr size_t kMaxPairCandidates = 5;
+  // Only before any cause: once one is modelled, the provisional lead covers masking.
+  if (!route->sel.chosen.empty() || c.o.max_found < 2) return false;
   std::vector<const CandidateResult*> pool;
   for (const CandidateResult& r : results) {
     if (r.relevant && (r.delta_bic < 0.0 || r.p_value < c.rule.p_threshold)) pool.push_back(&r);
@@ -465,8 +467,6 @@ bool enter_pair(const RouteContext& c, int round, const std::vector<CandidateRes
     return x->delta_bic < y->delta_bic;
   });
   if (pool.size() > kMaxPairCandidates) pool.resize(kMaxPairCandidates);
-  // Only before any cause: once one is modelled, the provisional lead covers masking.
-  if (!route->sel.chosen.empty() || c.o.max_found < 2) return false;
   const size_t n_pairs = pool.size() * (pool.size() - 1) / 2;
   if (n_pairs == 0) return false;
   DecisionRule rule = c.rule;
@@ -543,7 +543,6 @@ void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::opt
     for (const CandidateResult& r : results) {
       if (r.significant && (best == nullptr || r.delta_bic < best->delta_bic)) best = &r;
     }
-    std::vector<double> r_p(results.size(), NAN);
     // Of the candidates whose evidence holds (delta BIC, size and the held-out test passing),
     // whether or not the size of their held-out gain or end MAPE does, the one the training
     // windows support best.
@@ -552,18 +551,6 @@ void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::opt
       if (r.relevant && r.delta_bic <= c.rule.max_delta_bic && r.p_value < c.rule.p_threshold &&
           (lead == nullptr || r.delta_bic < lead->delta_bic)) {
         lead = &r;
-      }
-    }
-    // The found cause's rivals: the round's other causes that the held-out windows cannot tell
-    // from it.
-    std::vector<size_t> rivals;
-    if (best != nullptr) {
-      const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
-      for (size_t i = 0; i < results.size(); ++i) {
-        const CandidateResult& r = results[i];
-        if (&r == best || !r.significant) continue;
-        r_p[i] = p_chosen_beats_rival(best_figures, figures[i], c.windows);
-        if (r_p[i] >= o.alpha) rivals.push_back(i);
       }
     }
     if (forced) {
@@ -615,20 +602,15 @@ void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::opt
       continue;
     }
     c.say("found " + best->name);
-    if (forced) {  // the rivals were of the cause it replaces
-      rivals.clear();
-      const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
-      for (size_t i = 0; i < results.size(); ++i) {
-        const CandidateResult& r = results[i];
-        if (&r == best || !r.significant) continue;
-        r_p[i] = p_chosen_beats_rival(best_figures, figures[i], c.windows);
-        if (r_p[i] >= o.alpha) rivals.push_back(i);
-      }
-    }
-    for (size_t i : rivals) {
+    // The round's other causes that the held-out windows cannot tell from it.
+    const WindowFigures& best_figures = figures[static_cast<size_t>(best - results.data())];
+    for (size_t i = 0; i < results.size(); ++i) {
       const CandidateResult& r = results[i];
+      if (&r == best || !r.significant) continue;
+      const double p = p_chosen_beats_rival(best_figures, figures[i], c.windows);
+      if (p < o.alpha) continue;
       route->rivals.push_back(
-          {best->name, r.name, r.params, r_p[i], best->delta_bic, r.delta_bic, best->gain, r.gain});
+          {best->name, r.name, r.params, p, best->delta_bic, r.delta_bic, best->gain, r.gain});
     }
     route->entered[best->name] = static_cast<size_t>(round);
     add_cause(c.ev, c.train, c.held, *best, o, &sel);
