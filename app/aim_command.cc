@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/field_model_file.h"
 #include "models/nozzle_geometry.h"
 
 namespace airtwin::cli {
@@ -16,12 +17,14 @@ struct AimArgs {
   std::string stagnation;
   double pan_hint_deg = 0.0;
   double max_tilt_deg = 60.0;
+  std::string table;
 };
 
 void run_aim(const AimArgs& a) {
   const Eigen::Vector2d s = parse_xy(a.stagnation, "--stagnation");
   require_range(a.pan_hint_deg, -360, 360, "--pan-hint", "a pan angle in [-360, 360] deg");
-  NozzleGeometry g;
+  // eq. (2)'s a1, a2 are the field model's: the one fitted to the CFD unless --table names one.
+  NozzleGeometry g = field_model_or_default(a.table).geometry();
   g.tilt_max_rad = deg_to_rad(a.max_tilt_deg);
   require_range(a.max_tilt_deg, 0.001, 89.9, "--max-tilt", "a tilt in (0, 89.9] deg");
   try {
@@ -60,6 +63,10 @@ void add_aim_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--max-tilt", args->max_tilt_deg, "Largest tilt the nozzle may take, degrees")
       ->capture_default_str();
+  sub->add_option("--table", args->table,
+                  std::string("Field-model JSON whose eq. (2) a1, a2 place s (a table CSV: the "
+                              "paper's 0.1, 2.33); ") +
+                      kDefaultFieldModelHelp);
   sub->callback([args] { run_aim(*args); });
 }
 

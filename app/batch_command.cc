@@ -114,8 +114,7 @@ ordered_json batch_settings(const BatchArgs& a) {
     s["vision"]["calibration"] =
         f.calib.empty() ? ordered_json{{"twin_seed", kCalibrationSeed}} : file_identity(f.calib);
   }
-  const std::string table = controller_table(f);
-  s["table"] = table.empty() ? ordered_json("built-in") : file_identity(table);
+  s["table"] = f.table.empty() ? ordered_json("built-in") : file_identity(f.table);
   s["models"] = ordered_json::array();
   for (const std::string& m : controller_models(f)) s["models"].push_back(file_identity(m));
   s["effects"] = f.effects;

@@ -101,9 +101,7 @@ void run_calibrate_physical(CalibrateArgs a) {
               {"calibration.refinements", "--refinements"},
               {"calibration target", "--target"}},
              [&] { o.validate(); });
-  const std::string table = a.table.empty() ? fitted_field_model_file(a.air) : a.table;
-  const AirFieldModel field =
-      table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(table);
+  const AirFieldModel field = field_model_or_default(a.table);
   std::vector<std::string> keys;
   for (const DragCalibrationAxis& ax : o.axes) {
     keys.push_back(object_physics_catalogue()[static_cast<size_t>(ax.key)].key);
@@ -150,7 +148,7 @@ void run_calibrate_physical(CalibrateArgs a) {
       {"object", o.collection.object},
       {"air", air_identity(a.air)},
       {"drag", "physical"},
-      {"table", table.empty() ? "built-in" : table},
+      {"table", a.table.empty() ? "built-in" : a.table},
       {"target", triple(o.target)},
       {"best", c.best},
       {"best_object_physics", physics},
@@ -201,7 +199,7 @@ void run_calibrate(CalibrateArgs a) {
                      " needs --drag physical");
   }
 
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const auto progress = [&](const DynamicsCalibrationStep& s, int round, int rounds) {
     std::fprintf(stderr,
                  "calibrate-dynamics: round %d/%d: physics (%.3f, %.3f, %.3f) -> identified "
@@ -296,9 +294,9 @@ void add_calibrate_dynamics_command(CLI::App& app) {
                   "With --drag physical: grids around the best point, each at half the spacing")
       ->capture_default_str();
   sub->add_option("--table", args->table,
-                  "With --drag physical: the controller's field model identification uses\n"
-                  "(coefficient table CSV or field-model JSON; default: in CFD air the one\n"
-                  "fitted to the CFD, in model air the built-in table)");
+                  std::string("With --drag physical: the controller's field model identification\n"
+                              "uses (coefficient table CSV or field-model JSON); ") +
+                      kDefaultFieldModelHelp);
   sub->add_option("--out", args->out, "Output JSON record")->required();
   sub->callback([args] { run_calibrate(*args); });
 }

@@ -199,11 +199,6 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
   twin->cfd_air = field;
 }
 
-std::string fitted_field_model_file(const AirFlags& flags) {
-  return flags.air == "cfd" ? std::string(AIRTWIN_MODEL_DATA_DIR) + "/cfd_fitted_field_model.json"
-                            : std::string();
-}
-
 std::string air_identity(const AirFlags& flags) {
   std::string drag = ", drag " + flags.drag;
   for (const std::string& text : flags.object_physics) drag += ", " + text;

@@ -117,10 +117,10 @@ void check_air_flags(const AirFlags& flags);
 /// unreadable CFD data.
 void apply_air_flags(const AirFlags& flags, TwinParameters* twin);
 
-/// The controller's field model fitted to the air the flags select: in the CFD's air eq. (2) and
-/// the table fitted to the CFD (models/data/cfd_fitted_field_model.json); in the model's air ""
-/// (the built-in table).
-std::string fitted_field_model_file(const AirFlags& flags);
+/// What every --table help says of the default field model.
+inline constexpr const char* kDefaultFieldModelHelp =
+    "default: eqs. (2)-(3) fitted to the jet's CFD,\nmodels/data/cfd_fitted_field_model.json, "
+    "built in";
 
 /// What the air flags select, for records: "model", or "cfd" with the folder and a hash of its
 /// case headers; then the drag law and any --object-physics.

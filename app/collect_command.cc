@@ -89,8 +89,7 @@ void run_collect(CollectArgs a) {
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
-  const AirFieldModel field =
-      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+  const AirFieldModel field = field_model_or_default(a.table);
   ensure_parent_dir(a.out);
   const int total = static_cast<int>(o.tilts_rad.size()) * o.per_tilt;
   std::unique_ptr<Progress> progress;
@@ -152,9 +151,11 @@ void add_collect_command(CLI::App& app) {
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();
   add_air_flags(sub, args->air);
-  sub->add_option("--table", args->table,
-                  "With --air model: the twin's air model (a coefficient table CSV or a\n"
-                  "field-model JSON); default: the built-in table");
+  sub->add_option(
+      "--table", args->table,
+      std::string("With --air model: the twin's air model (a coefficient table CSV or a\n"
+                  "field-model JSON); ") +
+          kDefaultFieldModelHelp);
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "

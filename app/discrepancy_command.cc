@@ -55,8 +55,7 @@ void run(const DiscrepancyArgs& a) {
   const TrajectoryFiles files = read_trajectory_files(a.data);
   const TrajectorySet& set = files.set;
   const std::string& source = files.source;
-  const AirFieldModel field =
-      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+  const AirFieldModel field = field_model_or_default(a.table);
   // The nominal dynamics: the paper's, replaced per object type by the models given.
   std::map<std::string, ObjectDynamics> objects = {{"tracer", kTracerDynamics},
                                                    {"cotton", kCottonDynamics}};
@@ -130,9 +129,11 @@ void add_discrepancy_command(CLI::App& app) {
   sub->add_option("--model", args->models,
                   "model.json from 'airtwin identify' (repeatable, one per object type); default:\n"
                   "the paper's coefficients");
-  sub->add_option("--table", args->table,
-                  "The controller's air model: a coefficient table CSV or a field-model JSON\n(eq. "
-                  "(2)'s a1, a2 and a table; default: the built-in table)");
+  sub->add_option(
+      "--table", args->table,
+      std::string("The controller's air model: a coefficient table CSV or a field-model\n"
+                  "JSON (eq. (2)'s a1, a2 and a table); ") +
+          kDefaultFieldModelHelp);
   sub->add_option("--holdout", args->holdout, "Fraction of windows held out for scoring")
       ->capture_default_str();
   sub->add_option("--seed", args->seed, "Seed of the train / held-out split")

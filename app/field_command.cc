@@ -58,8 +58,7 @@ void run_field(const FieldArgs& a) {
   if (cfd && !a.table.empty()) throw UsageError("--table is the model's; not with --source cfd");
   require_range(a.height_m, 1e-4, 0.1, "--height", "a height above the floor in (0, 0.1] m");
   const NozzleOrientation orientation{deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)};
-  const AirFieldModel model =
-      a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+  const AirFieldModel model = field_model_or_default(a.table);
   const OrientedField field = model.at(orientation);
   std::optional<CfdField> cfd_field;
   if (cfd) {
@@ -160,8 +159,9 @@ void add_field_command(CLI::App& app) {
       ->required();
   sub->add_option(
       "--table", args->table,
-      "Coefficient table CSV (tilt_deg,alpha_deg,b1,b2,b3) or field-model JSON (eq. (2)'s\n"
-      "a1, a2 and a table); default: models/data/default_field_table.csv");
+      std::string("Coefficient table CSV (tilt_deg,alpha_deg,b1,b2,b3) or field-model JSON (eq.\n"
+                  "(2)'s a1, a2 and a table); ") +
+          kDefaultFieldModelHelp);
   sub->add_option("--extent", args->extent_m, "Side of the square grid in metres")
       ->capture_default_str();
   sub->add_option("--step", args->step_m, "Grid spacing in metres")->capture_default_str();

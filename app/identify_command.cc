@@ -125,8 +125,7 @@ void run_identify(IdentifyArgs a) {
     } else if (!objects.count(a.object)) {
       throw InputError(files.source + ": no trajectory of object type '" + a.object + "'");
     }
-    const AirFieldModel field =
-        a.table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(a.table);
+    const AirFieldModel field = field_model_or_default(a.table);
     model = identify_trajectories(set, a.object, field, o);
     model.source = files.source;
   }
@@ -154,8 +153,8 @@ void add_identify_command(CLI::App& app) {
   sub->add_option("--series", args->series, "Speed series CSV with header t,v,vair instead");
   sub->add_option("--out", args->out, "Output model JSON")->required();
   sub->add_option("--table", args->table,
-                  "Coefficient table CSV or field-model JSON for the air speed; default: the\n"
-                  "built-in table");
+                  std::string("Coefficient table CSV or field-model JSON for the air speed; ") +
+                      kDefaultFieldModelHelp);
   sub->add_option("--object", args->object,
                   "Object type to identify (required when the file holds several)");
   sub->add_option("--method", args->method, "stlsq | esindy | robust | robust-esindy")

@@ -1,6 +1,6 @@
 // airtwin maketable: construct a coefficient table from wall-jet physics (models/wall_jet_table.h).
-// The shipped default table is exactly `airtwin maketable --out
-// models/data/default_field_table.csv`.
+// The shipped constructed table is exactly `airtwin maketable --out
+// models/data/constructed_field_table.csv` (the default field model is the one fitted to the CFD).
 
 #include <cstdio>
 

@@ -213,7 +213,7 @@ void run_render(const RenderArgs& a) {
   const Scenario scenario = read_scenario(a.scenario);
 
   // The twin: the scenario's objects, the jet on and settled at the given orientation.
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::fitted_to_cfd();
   TwinParameters params;
   apply_air_flags(a.air, &params);
   const NozzleOrientation orientation{deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)};

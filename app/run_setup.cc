@@ -14,10 +14,12 @@
 namespace airtwin::cli {
 
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& calib_default) {
-  sub->add_option("--table", f.table,
-                  "The controller's air model: a coefficient table CSV or a field-model JSON\n(eq. "
-                  "(2)'s a1, a2 and a table; default: in CFD air the one fitted to the CFD,\n"
-                  "models/data/cfd_fitted_field_model.json; in model air the built-in table)");
+  sub->add_option(
+      "--table", f.table,
+      std::string("The controller's air model (and with --air model the twin's): a\n"
+                  "coefficient table CSV or a field-model JSON (eq. (2)'s a1, a2 and a\n"
+                  "table); ") +
+          kDefaultFieldModelHelp);
   sub->add_option("--model", f.models,
                   "model.json from 'airtwin identify' or extended_model.json from 'airtwin\n"
                   "discrepancy' (repeatable, one per object type): the dynamics the controller\n"
@@ -60,10 +62,6 @@ void check_run_setup_flags(const RunSetupFlags& f) {
   check_air_flags(f.air);
 }
 
-std::string controller_table(const RunSetupFlags& f) {
-  return f.table.empty() ? fitted_field_model_file(f.air) : f.table;
-}
-
 std::vector<std::string> controller_models(const RunSetupFlags& f) {
   if (!f.models.empty()) return f.models;
   if (f.air.air == "cfd" && f.air.drag == "physical") {
@@ -72,10 +70,7 @@ std::vector<std::string> controller_models(const RunSetupFlags& f) {
   return {};
 }
 
-AirFieldModel field_model_of(const RunSetupFlags& f) {
-  const std::string table = controller_table(f);
-  return table.empty() ? AirFieldModel::with_default_table() : read_air_field_model(table);
-}
+AirFieldModel field_model_of(const RunSetupFlags& f) { return field_model_or_default(f.table); }
 
 ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   ScenarioRunOptions options;

@@ -37,17 +37,14 @@ void add_run_setup_flags(CLI::App* sub, RunSetupFlags& flags, const std::string&
 /// --vision-rate that does not divide the camera's 40 Hz, a malformed --effect. Reads no file.
 void check_run_setup_flags(const RunSetupFlags& flags);
 
-/// The controller plans with the models fitted to the twin the flags build, unless --table or
-/// --model name others: in the CFD's air the field model fitted to the CFD
-/// (models/data/cfd_fitted_field_model.json), in the model's air the built-in table ("");
-/// in the physical twin (CFD air, physical drag) the dynamics identified in it and extended by the
-/// discrepancy analysis of its closed-loop logs (models/data/twin/extended_model.json,
-/// scripts/fit_twin_models.sh), otherwise the paper's eq. (8) (none).
-std::string controller_table(const RunSetupFlags& flags);
+/// The dynamics the controller plans with, unless --model names others: in the physical twin (CFD
+/// air, physical drag) the dynamics identified in it and extended by the discrepancy analysis of
+/// its closed-loop logs (models/data/twin/extended_model.json, scripts/fit_twin_models.sh),
+/// otherwise the paper's eq. (8) (none).
 std::vector<std::string> controller_models(const RunSetupFlags& flags);
 
-/// The field model: controller_table's, or the built-in table. Throws InputError for a bad table
-/// file.
+/// The controller's field model (and the model air's, with --air model): --table's, or the
+/// default one fitted to the CFD (field_model_or_default). Throws InputError for a bad file.
 AirFieldModel field_model_of(const RunSetupFlags& flags);
 
 /// The run options the flags set (the seed is left 0): the twin's air and effects, the dynamics of

@@ -25,7 +25,7 @@ double batch_seconds(int jobs) {
   namespace fs = std::filesystem;
   static const BatchPlan plan =
       make_batch_plan({std::string(AIRTWIN_SOURCE_DIR) + "/scenes/octagon.yaml"}, 1, kSeeds, {});
-  static const AirFieldModel field = AirFieldModel::with_default_table();
+  static const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::string dir =
       (fs::temp_directory_path() / ("airtwin_batch_bench_" + std::to_string(::getpid()))).string();
   fs::remove_all(dir);

@@ -35,7 +35,7 @@ void BM_CemDecision(benchmark::State& state, const std::string& name, bool exten
   Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   if (no_scan) sc.controller.scan_step_m = 0.0;
   if (no_transition) sc.controller.predict_transition = false;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::optional<ExtendedPlanning> planning;
   if (extended) {
     planning.emplace();

@@ -29,12 +29,12 @@ TrajectorySet collected(int trials) {
   options.lead_in_s = 0.5;
   options.threads = 0;
   apply_effects({parse_effect("nozzle_offset:pan_deg=6,tilt_deg=4")}, &options.twin);
-  return run_collection(options, AirFieldModel::with_default_table());
+  return run_collection(options, AirFieldModel::with_constructed_table());
 }
 
 void BM_DiscrepancyAnalysis(benchmark::State& state) {
   const TrajectorySet data = collected(static_cast<int>(state.range(0)));
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::map<std::string, ObjectDynamics> objects = {{"tracer", kTracerDynamics}};
   DiscrepancyOptions options;
   if (state.range(1) == 0) options.screen_step_s = options.predictor_step_s;

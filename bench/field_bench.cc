@@ -24,7 +24,7 @@ namespace {
 constexpr int kPoints = 1'000'000;
 
 const AirFieldModel& model() {
-  static const AirFieldModel m = AirFieldModel::with_default_table();
+  static const AirFieldModel m = AirFieldModel::with_constructed_table();
   return m;
 }
 

@@ -25,7 +25,7 @@ namespace airtwin {
 namespace {
 
 const AirFieldModel& field() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 

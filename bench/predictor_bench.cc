@@ -42,7 +42,7 @@ struct Work {
 const Work& work() {
   static const Work w = [] {
     Work w;
-    const AirFieldModel model = AirFieldModel::with_default_table();
+    const AirFieldModel model = AirFieldModel::with_constructed_table();
     std::mt19937_64 rng(2024);
     std::uniform_real_distribution<double> pan(-kPi, kPi), tilt(0.0, deg_to_rad(45)),
         angle(-kPi, kPi), radius(0.20, 0.58), u01(0.0, 1.0);

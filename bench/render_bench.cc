@@ -30,7 +30,7 @@ namespace {
 constexpr double kCameraPeriod_s = 1.0 / 40.0;
 
 const AirFieldModel& render_field_model() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 

@@ -65,7 +65,7 @@ constexpr int kChunkSteps = 250;
 constexpr double kEpisode_s = 4.0;
 
 const AirFieldModel& field_model() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 

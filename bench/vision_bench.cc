@@ -46,7 +46,7 @@ Sequence render_sequence(const RenderOptions& options) {
                             {0.26 * (i % 5 - 2) + jx, 0.26 * (i / 5 - 2) + jy},
                             0.0});
   }
-  static const AirFieldModel field = AirFieldModel::with_default_table();
+  static const AirFieldModel field = AirFieldModel::with_constructed_table();
   TwinParameters params;
   params.jet_on_at_start = true;
   params.initial_orientation = {0.5, 20.0 * 3.14159265358979 / 180.0};

@@ -12,7 +12,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace airtwin;
   static const std::filesystem::path model = [] {
-    fuzz::write_file(fuzz::scratch_dir() / "table.csv", FieldTable::default_table().to_csv());
+    fuzz::write_file(fuzz::scratch_dir() / "table.csv", FieldTable::constructed_table().to_csv());
     return fuzz::scratch_dir() / "model.json";
   }();
   fuzz::write_file(model, fuzz::text_of(data, size));

@@ -9,6 +9,11 @@
 #include "models/makima.h"
 
 namespace airtwin {
+
+// Generated at build time from models/data/cfd_fitted_field_model.json (models/CMakeLists.txt).
+extern const double kCfdFittedA1;
+extern const double kCfdFittedA2;
+
 namespace {
 
 constexpr double kBinsPerRad = FieldTable::kAlphaBins / (2.0 * kPi);
@@ -46,8 +51,15 @@ AirFieldModel::AirFieldModel(NozzleGeometry geometry, FieldTable table)
   }
 }
 
-AirFieldModel AirFieldModel::with_default_table() {
-  return AirFieldModel(NozzleGeometry{}, FieldTable::default_table());
+AirFieldModel AirFieldModel::fitted_to_cfd() {
+  NozzleGeometry geometry;
+  geometry.a1 = kCfdFittedA1;
+  geometry.a2 = kCfdFittedA2;
+  return AirFieldModel(geometry, FieldTable::cfd_fitted_table());
+}
+
+AirFieldModel AirFieldModel::with_constructed_table() {
+  return AirFieldModel(NozzleGeometry{}, FieldTable::constructed_table());
 }
 
 OrientedRays AirFieldModel::rays_at(const NozzleOrientation& o) const {

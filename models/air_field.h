@@ -110,8 +110,12 @@ class AirFieldModel {
  public:
   /// Throws InputError when the geometry is invalid.
   AirFieldModel(NozzleGeometry geometry, FieldTable table);
-  /// The paper's geometry with the shipped default table.
-  static AirFieldModel with_default_table();
+  /// The default model: eqs. (2) and (3) fitted to the jet's CFD the paper's way (Appendices A-C
+  /// with the simulated hot-wire; models/data/cfd_fitted_field_model.json, docs/cfd.md).
+  static AirFieldModel fitted_to_cfd();
+  /// The paper's geometry with the table constructed from the wall-jet literature
+  /// (models/data/constructed_field_table.csv), the model for users without a CFD.
+  static AirFieldModel with_constructed_table();
 
   const NozzleGeometry& geometry() const { return geometry_; }
   const FieldTable& table() const { return table_; }

@@ -54,6 +54,10 @@ AirFieldModel read_air_field_model(const std::string& path) {
   return AirFieldModel(geometry, FieldTable::load_csv(table.string()));
 }
 
+AirFieldModel field_model_or_default(const std::string& path) {
+  return path.empty() ? AirFieldModel::fitted_to_cfd() : read_air_field_model(path);
+}
+
 void write_air_field_model(const std::string& path, const NozzleGeometry& geometry,
                            const std::string& table_file) {
   const Json j = {{"format", kFormat},

@@ -24,6 +24,10 @@ bool is_field_model_file(const std::string& path);
 /// range (NozzleGeometry::validate), a table that cannot be read.
 AirFieldModel read_air_field_model(const std::string& path);
 
+/// The model `path` names (read_air_field_model), or when it is empty the default one,
+/// AirFieldModel::fitted_to_cfd(): what every command's --table means.
+AirFieldModel field_model_or_default(const std::string& path);
+
 /// Writes a field-model JSON at `path` naming `table_file` (written beside it by the caller) with
 /// eq. (2)'s a1, a2 of `geometry`. InputError when the file cannot be written.
 void write_air_field_model(const std::string& path, const NozzleGeometry& geometry,

@@ -11,8 +11,9 @@
 
 namespace airtwin {
 
-// Generated at build time from models/data/default_field_table.csv.
-extern const char* const kDefaultFieldTableCsv;
+// Generated at build time from models/data (models/CMakeLists.txt).
+extern const char* const kConstructedFieldTableCsv;
+extern const char* const kCfdFittedFieldTableCsv;
 
 double FieldCoefficients::speed(double r_m) const {
   // eq. (3)
@@ -115,9 +116,17 @@ FieldTable FieldTable::parse_csv(std::string_view text, const std::string& sourc
   }
 }
 
-const FieldTable& FieldTable::default_table() {
-  static const FieldTable table = parse_csv(
-      kDefaultFieldTableCsv, "built-in default table (models/data/default_field_table.csv)");
+const FieldTable& FieldTable::constructed_table() {
+  static const FieldTable table =
+      parse_csv(kConstructedFieldTableCsv,
+                "built-in constructed table (models/data/constructed_field_table.csv)");
+  return table;
+}
+
+const FieldTable& FieldTable::cfd_fitted_table() {
+  static const FieldTable table =
+      parse_csv(kCfdFittedFieldTableCsv,
+                "built-in CFD-fitted table (models/data/cfd_fitted_eq2_field_table.csv)");
   return table;
 }
 

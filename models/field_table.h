@@ -40,8 +40,12 @@ class FieldTable {
   static FieldTable load_csv(const std::string& path);
   /// Same, from text in memory; `source` names it in messages.
   static FieldTable parse_csv(std::string_view text, const std::string& source);
-  /// The table shipped in models/data/default_field_table.csv (compiled into the binary).
-  static const FieldTable& default_table();
+  /// The table constructed from the wall-jet literature for the paper's jet
+  /// (models/data/constructed_field_table.csv, `airtwin maketable`; compiled into the binary).
+  static const FieldTable& constructed_table();
+  /// eq. (3)'s table fitted to the jet's CFD the paper's way, for eq. (2) refitted to it
+  /// (models/data/cfd_fitted_eq2_field_table.csv, docs/cfd.md; compiled into the binary).
+  static const FieldTable& cfd_fitted_table();
 
   /// The CSV text of this table (deterministic formatting: same table, same bytes).
   std::string to_csv() const;

@@ -80,8 +80,12 @@ void bind_field(py::module_& m) {
   py::class_<AirFieldModel>(m, "Field",
                             "The analytical air field of section III (eqs. 1-3): the rig's "
                             "geometry and eq. (3)'s coefficient table. Immutable.")
-      .def_static("default", &AirFieldModel::with_default_table,
-                  "The paper's geometry with the shipped default table.")
+      .def_static("default", &AirFieldModel::fitted_to_cfd,
+                  "The default field model, as the CLI's: eqs. (2)-(3) fitted to the jet's CFD "
+                  "(models/data/cfd_fitted_field_model.json).")
+      .def_static("constructed", &AirFieldModel::with_constructed_table,
+                  "The paper's geometry with the table constructed from the wall-jet literature "
+                  "(models/data/constructed_field_table.csv, `airtwin maketable`).")
       .def_static("from_file", &read_air_field_model, py::arg("path"),
                   "A table CSV (tilt_deg,alpha_deg,b1,b2,b3) or a field-model JSON, as "
                   "`airtwin field --table` reads. ValueError naming the file, line and column.")
@@ -133,8 +137,9 @@ void bind_field(py::module_& m) {
 
   m.def(
       "aim",
-      [](double x_m, double y_m, double max_tilt_deg, double pan_hint_deg) {
-        NozzleGeometry g;
+      [](double x_m, double y_m, double max_tilt_deg, double pan_hint_deg,
+         const std::optional<AirFieldModel>& field) {
+        NozzleGeometry g = (field ? *field : AirFieldModel::fitted_to_cfd()).geometry();
         g.tilt_max_rad = deg_to_rad(max_tilt_deg);
         g.validate();
         const AimResult r = aim_at_stagnation(g, {x_m, y_m}, deg_to_rad(pan_hint_deg));
@@ -142,17 +147,20 @@ void bind_field(py::module_& m) {
         return Point{rad_to_deg(r.orientation->pan_rad), rad_to_deg(r.orientation->tilt_rad)};
       },
       py::arg("x_m"), py::arg("y_m"), py::arg("max_tilt_deg") = 60.0, py::arg("pan_hint_deg") = 0.0,
+      py::arg("field") = py::none(),
       "The nozzle (pan_deg, tilt_deg) whose stagnation point is (x_m, y_m) (the inverse of eqs. "
-      "1-2, the paper's geometry; `airtwin aim`). ValueError 'unreachable: ...' otherwise.");
+      "1-2 with `field`'s a1, a2, default Field.default()'s; `airtwin aim`). ValueError "
+      "'unreachable: ...' otherwise.");
   m.def(
       "stagnation_point",
-      [](double pan_deg, double tilt_deg) {
-        const Eigen::Vector2d s =
-            stagnation_point(NozzleGeometry{}, orientation_deg(pan_deg, tilt_deg));
+      [](double pan_deg, double tilt_deg, const std::optional<AirFieldModel>& field) {
+        const NozzleGeometry g = (field ? *field : AirFieldModel::fitted_to_cfd()).geometry();
+        const Eigen::Vector2d s = stagnation_point(g, orientation_deg(pan_deg, tilt_deg));
         return Point{s.x(), s.y()};
       },
-      py::arg("pan_deg"), py::arg("tilt_deg"),
-      "eqs. (1)-(2) with the paper's geometry: the stagnation point (m) as (x, y).");
+      py::arg("pan_deg"), py::arg("tilt_deg"), py::arg("field") = py::none(),
+      "eqs. (1)-(2) with `field`'s a1, a2 (default Field.default()'s): the stagnation point (m) "
+      "as (x, y).");
 }
 
 }  // namespace airtwin::python

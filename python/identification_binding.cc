@@ -104,7 +104,7 @@ IdentifiedModel identify_tracks(const py::list& trajectories, const std::string&
   options.sindy.method = parse_sindy_method(method);
   if (terms) options.sindy.terms = parse_sindy_terms(*terms);
   options.sindy.seed = seed;
-  const AirFieldModel model = field ? *field : AirFieldModel::with_default_table();
+  const AirFieldModel model = field ? *field : AirFieldModel::fitted_to_cfd();
   py::gil_scoped_release release;
   return identify_trajectories(set, object, model, options);
 }

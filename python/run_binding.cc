@@ -51,8 +51,7 @@ struct ControllerSetup {
 };
 
 AirFieldModel field_model_of(const ControllerSetup& setup) {
-  return setup.table.empty() ? AirFieldModel::with_default_table()
-                             : read_air_field_model(setup.table);
+  return setup.table.empty() ? AirFieldModel::fitted_to_cfd() : read_air_field_model(setup.table);
 }
 
 RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
@@ -103,6 +102,7 @@ class PyEpisode {
 
   ScenarioEpisode& episode() { return *episode_; }
   const Scenario& scenario() const { return scenario_; }
+  const AirFieldModel& field() const { return field_; }
   const TwinParameters& twin() const { return options_.twin; }
   RunResult result() const { return {episode_->result(), scenario_.task.time_limit_s}; }
 
@@ -311,9 +311,7 @@ void bind_run(py::module_& m) {
           "(pan_min, tilt_min, pan_max, tilt_max) of the servos (deg).")
       .def_property_readonly(
           "max_stagnation_radius_m",
-          [](PyEpisode&) {
-            return max_stagnation_radius(AirFieldModel::with_default_table().geometry());
-          })
+          [](PyEpisode& e) { return max_stagnation_radius(e.field().geometry()); })
       .def_property_readonly("commanded_deg",
                              [](PyEpisode& e) {
                                const NozzleOrientation o =

@@ -40,9 +40,9 @@ Angles degrees(const NozzleOrientation& o) {
 class PyTwin {
  public:
   PyTwin(const std::string& scenario_path, uint64_t seed, double pan_deg, double tilt_deg,
-         bool jet_on, const TwinSetup& setup)
+         bool jet_on, const TwinSetup& setup, AirFieldModel field)
       : scenario_(read_scenario(scenario_path)),
-        field_(AirFieldModel::with_default_table()),
+        field_(std::move(field)),
         seed_(seed),
         jet_on_(jet_on),
         base_(twin_parameters(setup, scenario_)),
@@ -148,7 +148,7 @@ void bind_twin(py::module_& m) {
 
   py::class_<PyTwin>(m, "Twin",
                      "The MuJoCo twin of a scenario's objects (docs/twin.md), with the analytical "
-                     "air of the default field model, as `airtwin run` builds it.")
+                     "air of a field model (default Field.default()), as `airtwin run` builds it.")
       .def(py::init([](const std::string& scenario_path, uint64_t seed, double pan_deg,
                        double tilt_deg, bool jet_on, std::shared_ptr<const CfdField> cfd,
                        const std::string& air, const std::string& drag,
@@ -156,7 +156,7 @@ void bind_twin(py::module_& m) {
                        const std::vector<std::string>& effects, const std::string& mjcf,
                        std::optional<bool> air_formation, double air_formation_time_scale,
                        const std::string& integrator, double air_front_co_flow,
-                       double air_front_counter_flow) {
+                       double air_front_counter_flow, const std::optional<AirFieldModel>& field) {
              const TwinSetup setup{air,
                                    std::move(cfd),
                                    drag,
@@ -168,7 +168,8 @@ void bind_twin(py::module_& m) {
                                    integrator,
                                    air_front_co_flow,
                                    air_front_counter_flow};
-             return std::make_unique<PyTwin>(scenario_path, seed, pan_deg, tilt_deg, jet_on, setup);
+             return std::make_unique<PyTwin>(scenario_path, seed, pan_deg, tilt_deg, jet_on, setup,
+                                             field ? *field : AirFieldModel::fitted_to_cfd());
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
            py::arg("tilt_deg") = 0.0, py::arg("jet_on") = true, py::arg("cfd") = nullptr,
@@ -180,6 +181,7 @@ void bind_twin(py::module_& m) {
            py::arg("integrator") = "euler",
            py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
            py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
+           py::arg("field") = py::none(),
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
            "flags: air 'model' (the analytical field) or 'cfd' (the jet's CFD: `cfd`, a "
@@ -191,7 +193,8 @@ void bind_twin(py::module_& m) {
            "air_formation_time_scale its times' factor (--air-formation-time-scale); integrator "
            "'euler' or 'implicit' (--integrator); air_front_co_flow and air_front_counter_flow, "
            "the new wall jet's front carried by the old air (--air-front-co-flow, "
-           "--air-front-counter-flow; both 0: the front of still air).")
+           "--air-front-counter-flow; both 0: the front of still air); field, the analytical air "
+           "(a Field, as --table; default Field.default()).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(
           "command",

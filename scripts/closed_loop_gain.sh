@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The closed-loop gain of the discrepancy analysis, effect by effect (docs/discrepancy.md), in
-# the mirror twin (--air model --drag eq8: the truth is the model plus the hidden effect; the
+# the mirror twin (--air model --drag eq8 with the constructed table: the truth is the model plus the hidden effect; the
 # physical twin's own gain is scripts/fit_twin_models.sh's and physical_twin_closed_loop.sh's):
 #   1. the twin collects Appendix D data with one hidden effect (100 tracer trials, 0.5 s lead-in);
 #   2. `airtwin discrepancy` names the cause and writes extended_model.json, from the CSV alone;
@@ -46,7 +46,9 @@ out=$1
 [[ -x "$bin" ]] || { echo "closed_loop_gain.sh: no airtwin binary at $bin (build first)" >&2; exit 1; }
 [[ -f "$scenario" ]] || { echo "closed_loop_gain.sh: no scenario file $scenario" >&2; exit 1; }
 mkdir -p "$out"
-mirror=(--air model --drag eq8)
+# The mirror of the constructed table, in which docs/discrepancy.md's figures were measured.
+constructed=models/data/constructed_field_table.csv
+mirror=(--air model --drag eq8 --table "$constructed")
 
 # success rate, median completion time (successful runs), mean path error from a batch's runs.csv.
 summarise() {
@@ -70,7 +72,8 @@ for effect in $effects; do
   mkdir -p "$dir"
   "$bin" collect --object tracer --per-tilt 50 --lead-in 0.5 --seed 1 --effect "$effect" \
     "${mirror[@]}" --quiet --out "$dir/data.csv" >/dev/null
-  "$bin" discrepancy "$dir/data.csv" --seed 1 --quiet --out "$dir/analysis" >/dev/null
+  "$bin" discrepancy "$dir/data.csv" --table "$constructed" --seed 1 --quiet \
+    --out "$dir/analysis" >/dev/null
   found=$(tr -d '\n' < "$dir/analysis/report.json" | sed -n 's/.*"found": *\[\([^]]*\)\].*/\1/p' | tr -d '" ')
   "$bin" batch "$scenario" --seeds "$seeds" --jobs "$jobs" --effect "$effect" "${mirror[@]}" \
     --quiet --out "$dir/nominal" >/dev/null

@@ -6,8 +6,8 @@
 #   2. the CFD floor speed on a 2.5 cm grid over +-1.45 m at the same height (`airtwin field
 #      --source cfd --fit-grid`), at every production tilt (0, 15, 22.5, 30, 45, 60 deg);
 #   3. `airtwin fitfield` with the Appendix C fusion -> models/data/cfd_fitted_field_table.csv;
-#   4. the MAPE per tilt of the fitted table and of the current default table
-#      (models/data/default_field_table.csv) against the CFD and the hot-wire grids, and against
+#   4. the MAPE per tilt of the fitted table and of the constructed table
+#      (models/data/constructed_field_table.csv) against the CFD and the hot-wire grids, and against
 #      the held-out 37.5 deg case, beside the paper's figures -> the report.
 # Besides the main fit (hot-wire at every CFD tilt) it fits the paper's own campaign (hot-wire and
 # CFD at 0, 22.5, 45 deg only), reported beside it; that table stays in the work folder.
@@ -45,7 +45,7 @@ held_out="$cfd/tilt37.5_mesh1_d20.json"
 [ -f "$held_out" ] || { echo "fit_table.sh: $held_out missing" >&2; exit 1; }
 table="$top/models/data/cfd_fitted_field_table.csv"
 report="$top/models/data/cfd_fitted_field_table.md"
-default_table="$top/models/data/default_field_table.csv"
+constructed_table="$top/models/data/constructed_field_table.csv"
 mkdir -p "$work"
 
 tilts="0 15 22.5 30 45 60"      # every production CFD case (mesh 1, 20 mm inlet)
@@ -115,11 +115,11 @@ eq2_model="$top/models/data/cfd_fitted_field_model.json"
 
 # 4. Every table against every data set.
 echo "fit_table.sh: evaluating" >&2
-for name in fitted default paper eq2; do
+for name in fitted constructed paper eq2; do
   case $name in
     fitted) t="$table" ;;
     eq2) t="$eq2_model" ;;
-    default) t="$default_table" ;;
+    constructed) t="$constructed_table" ;;
     paper) t="$work/paper_table.csv" ;;
   esac
   "$bin" fitfield --evaluate "$t" --grid "$work/hotwire.csv" --cfd "$work/cfd.csv" \
@@ -147,7 +147,7 @@ def by_tilt(rep):
     return out
 
 fitted = by_tilt(load("eval_fitted.json")); fitted.update(by_tilt(load("eval_fitted_37.5.json")))
-default = by_tilt(load("eval_default.json")); default.update(by_tilt(load("eval_default_37.5.json")))
+constructed = by_tilt(load("eval_constructed.json")); constructed.update(by_tilt(load("eval_constructed_37.5.json")))
 three = by_tilt(load("eval_paper.json")); three.update(by_tilt(load("eval_paper_37.5.json")))
 eq2 = by_tilt(load("eval_eq2.json")); eq2.update(by_tilt(load("eval_eq2_37.5.json")))
 eq2_model = load("fit_eq2.json")
@@ -166,16 +166,16 @@ lines = [
     "+-1.45 m (pan 0). Hot-wire: the simulated 11 x 11 campaign over +-1 m. `fitted`: the table fitted",
     "to the hot-wire grid and the CFD at tilts 0, 15, 22.5, 30, 45, 60 deg",
     "(models/data/cfd_fitted_field_table.csv); `paper's 3 tilts`: the same fit with the data of 0,",
-    "22.5 and 45 deg only, as the paper did; `default`: models/data/default_field_table.csv (wall-jet",
+    "22.5 and 45 deg only, as the paper did; `constructed`: models/data/constructed_field_table.csv (wall-jet",
     "construction). 37.5 deg is the held-out case: no table saw it. `eq. (2) refitted`: the fit of",
     "every tilt with s placed by eq. (2) refitted to the CFD's stagnation points at 22.5 and 45 deg",
     "(models/data/cfd_fitted_field_model.json: a1, a2 = %s; the others use the paper's 0.1, 2.33)." % open(os.path.join(work, "eq2.txt")).read().strip(),
     "",
-    "| tilt (deg) | fitted vs CFD | fitted vs hot-wire | eq. (2) refitted vs CFD | eq. (2) refitted vs hot-wire | paper's 3 tilts vs CFD | paper's 3 tilts vs hot-wire | default vs CFD | default vs hot-wire | the paper, vs CFD / vs measured | hot-wire over CFD | CFD / hot-wire points |",
+    "| tilt (deg) | fitted vs CFD | fitted vs hot-wire | eq. (2) refitted vs CFD | eq. (2) refitted vs hot-wire | paper's 3 tilts vs CFD | paper's 3 tilts vs hot-wire | constructed vs CFD | constructed vs hot-wire | the paper, vs CFD / vs measured | hot-wire over CFD | CFD / hot-wire points |",
     "|---|---|---|---|---|---|---|---|---|---|---|---|",
 ]
 for t in sorted(fitted):
-    f, d, p, e = fitted[t], default[t], three[t], eq2[t]
+    f, d, p, e = fitted[t], constructed[t], three[t], eq2[t]
     lines.append("| %g%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d / %d |" % (
         t, " (held out)" if t == 37.5 else "", fmt(f[0]), fmt(f[1]), fmt(e[0]), fmt(e[1]),
         fmt(p[0]), fmt(p[1]), fmt(d[0]), fmt(d[1]), paper.get(t, "-"), fmt(over.get(t)), f[2],

@@ -42,6 +42,14 @@ int count_lines(const std::string& text) {
   return n;
 }
 
+std::string constructed_table() {
+  return "'" + std::string(AIRTWIN_SOURCE_DIR) + "/models/data/constructed_field_table.csv'";
+}
+
+std::string mirror_flags() {
+  return " --air model --drag eq8 --table " + constructed_table() + " ";
+}
+
 const std::string& line_with_wide_start() {
   static const std::string path = [] {
     std::string text = file_text(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml");

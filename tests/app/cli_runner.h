@@ -23,6 +23,15 @@ std::string file_text(const std::string& path);
 /// Number of lines in `text` (a trailing newline does not start a new line).
 int count_lines(const std::string& text);
 
+/// The constructed table's file (models/data/constructed_field_table.csv), quoted for the shell.
+std::string constructed_table();
+
+/// The mirror twin of the constructed table as shell words, with spaces around them: its air is
+/// eqs. (1)-(3) with that table and its drag eq. (8) (" --air model --drag eq8 --table FILE "). The
+/// hidden-effect tests were measured in it; data collected in it are analysed with --table
+/// constructed_table().
+std::string mirror_flags();
+
 /// scenes/line.yaml with the wider CEM start the file had before it took the paper's (Sigma0
 /// 0.02 m^2 and a floor scan when the line search is blind), written once per process into a
 /// scratch folder: in the mirror twin its tracer moves from the first decision (with the paper's

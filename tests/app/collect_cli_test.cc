@@ -28,7 +28,7 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   const std::string d = scratch_dir("collect");
   // The mirror first (the model's air, eq. (8) drag); the default twin is the physical one.
   const std::string quick = "collect --per-tilt 2 --wait 0.5 --quiet --seed 4 ";
-  const std::string mirror = quick + "--air model --drag eq8 ";
+  const std::string mirror = quick + testing::mirror_flags();
   const auto r = run_airtwin(mirror + "--out " + d + "/a/data.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("collected 4 tracer trajectories"), std::string::npos) << r.out;
@@ -38,8 +38,8 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   ASSERT_EQ(run_airtwin(mirror + "--threads 2 --out " + d + "/b.csv").exit_code, 0);
   EXPECT_EQ(read_text_file(d + "/a/data.csv"), read_text_file(d + "/b.csv"));
   // Without --quiet, progress goes to stderr as plain lines when it is not a terminal.
-  const auto loud = run_airtwin(
-      "collect --per-tilt 2 --wait 0.5 --seed 4 --air model --drag eq8 --out " + d + "/l.csv");
+  const auto loud = run_airtwin("collect --per-tilt 2 --wait 0.5 --seed 4" +
+                                testing::mirror_flags() + "--out " + d + "/l.csv");
   ASSERT_EQ(loud.exit_code, 0) << loud.err;
   EXPECT_NE(loud.err.find("collect 4/4 trials"), std::string::npos) << loud.err;
   EXPECT_EQ(loud.err.find('\r'), std::string::npos) << loud.err;
@@ -75,9 +75,9 @@ TEST(CollectCli, TheImplicitIntegratorSurvivesTheTumbleThatStopsEuler) {
   // explicit Euler at 2.5 ms its spin grows until the runaway check stops the run; MuJoCo's
   // implicit integrator completes it.
   const std::string d = scratch_dir("collect_integrator");
-  const std::string args =
-      "collect --object tracer --per-tilt 50 --lead-in 0.5 --quiet --seed 3 --air model "
-      "--drag eq8 --effect pressure_gradient:strength=25,length=0.2145 ";
+  const std::string args = "collect --object tracer --per-tilt 50 --lead-in 0.5 --quiet --seed 3" +
+                           testing::mirror_flags() +
+                           "--effect pressure_gradient:strength=25,length=0.2145 ";
   const auto euler = run_airtwin(args + "--out " + d + "/euler.csv");
   EXPECT_NE(euler.exit_code, 0);
   EXPECT_NE(euler.err.find("object '26' moves faster than 100 m/s"), std::string::npos)

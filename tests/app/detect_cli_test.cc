@@ -52,7 +52,7 @@ Dataset make_dataset(int frames) {
                   {"c1", "cotton", {-0.3, 0.3}, std::nullopt},
                   {"t3", "tracer", {0.5, -0.4}, std::nullopt},
                   {"c2", "cotton", {0.7, 0.6}, std::nullopt}};
-  static const AirFieldModel field = AirFieldModel::with_default_table();
+  static const AirFieldModel field = AirFieldModel::with_constructed_table();
   Twin twin(spec, params, field, 3);
   twin.settle_jet();
   RenderOptions options;

@@ -52,7 +52,7 @@ std::string collect(const std::string& name, const std::string& effects, int see
                      std::to_string(seed) + " --out " + raw;
   if (!effects.empty()) args += " " + effects;
   // The mirror twin unless the caller names the air: the truth is the model plus what is hidden.
-  if (effects.find("--air ") == std::string::npos) args += " --air model --drag eq8";
+  if (effects.find("--air ") == std::string::npos) args += testing::mirror_flags();
   const testing::CliResult c = run_airtwin(args);
   EXPECT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_" + name + "_blind");
@@ -60,9 +60,13 @@ std::string collect(const std::string& name, const std::string& effects, int see
   return blind + "/data.csv";
 }
 
+// The analysis of `csv`, with the mirror's constructed table unless `flags` name a table.
 json analyse(const std::string& csv, const std::string& out, const std::string& flags = "") {
+  const std::string table = flags.find("--table") == std::string::npos
+                                ? " --table " + testing::constructed_table()
+                                : std::string();
   const testing::CliResult r =
-      run_airtwin("discrepancy " + csv + " --quiet " + flags + " --out " + out);
+      run_airtwin("discrepancy " + csv + " --quiet " + flags + table + " --out " + out);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
   EXPECT_TRUE(std::filesystem::exists(out + "/extended_model.json"));
@@ -574,9 +578,9 @@ TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
   // which the model lacks, grows as the factor squared and a quadratic drag imitates both
   // (docs/discrepancy.md).
   const std::string run = scratch_dir("discrepancy_closed_loop");
-  const testing::CliResult c = run_airtwin(
-      "run " + testing::line_with_wide_start() +
-      " --seed 1 --quiet --air model --drag eq8 --effect field_scale:factor=1.15 --out " + run);
+  const testing::CliResult c =
+      run_airtwin("run " + testing::line_with_wide_start() + " --seed 1 --quiet" +
+                  testing::mirror_flags() + "--effect field_scale:factor=1.15 --out " + run);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const std::string blind = scratch_dir("discrepancy_closed_loop_blind");
   std::ofstream(blind + "/log.csv") << read_file(run + "/log.csv");
@@ -603,8 +607,8 @@ TEST(DiscrepancyCli, FindsAnEffectInAClosedLoopLog) {
 TEST(DiscrepancyCli, SaysWhatCannotBeDecided) {
   // Five trials: too little data to decide anything; and no lead-in: no response delay.
   const std::string dir = scratch_dir("discrepancy_small");
-  ASSERT_EQ(run_airtwin("collect --per-tilt 3 --quiet --seed 5 --air model --drag eq8 --out " +
-                        dir + "/d.csv")
+  ASSERT_EQ(run_airtwin("collect --per-tilt 3 --quiet --seed 5" + testing::mirror_flags() +
+                        "--out " + dir + "/d.csv")
                 .exit_code,
             0);
   const json r = analyse(dir + "/d.csv", dir + "/out");

@@ -33,7 +33,8 @@ class IdentifyCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new std::string(scratch_dir("identify"));
-    const AirFieldModel model = AirFieldModel::with_default_table();
+    // The default field model, which identify reads vair from unless --table names another.
+    const AirFieldModel model = AirFieldModel::fitted_to_cfd();
     TrajectorySet set = testing::make_ray_trajectories(model, -2.66, 4.26, -8.53, 40, 21, "tracer");
     write(*dir_ + "/tracer.csv", trajectory_csv(set));
     const TrajectorySet cotton =

@@ -220,8 +220,8 @@ TEST(RunCli, ExtendedModelCompensatesTheNozzleOffset) {
   const std::string d = scratch_dir("run_extended");
   write_extended_model(d + "/ext.json", R"("nozzle_offset": {"pan_deg": 8, "tilt_deg": 4})");
   // In the mirror twin, where the offset is the only thing the nominal model lacks.
-  const std::string line = "run " + kScenes + "line.yaml --seed 2 --quiet --air model --drag eq8 " +
-                           "--effect nozzle_offset:pan_deg=8,tilt_deg=4 ";
+  const std::string line = "run " + kScenes + "line.yaml --seed 2 --quiet" +
+                           testing::mirror_flags() + "--effect nozzle_offset:pan_deg=8,tilt_deg=4 ";
   const auto nominal = run_airtwin(line + "--out " + d + "/nominal");
   ASSERT_EQ(nominal.exit_code, 0) << nominal.err;
   const auto extended = run_airtwin(line + "--model " + d + "/ext.json --out " + d + "/extended");
@@ -235,7 +235,7 @@ TEST(RunCli, ExtendedModelCompensatesTheNozzleOffset) {
   std::istringstream rows(slurp(d + "/extended/decisions.csv"));
   std::string row;
   std::getline(rows, row);
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   int checked = 0;
   double pan_hint = 0.0;
   while (std::getline(rows, row)) {

@@ -117,7 +117,7 @@ TEST(SceneCli, ExportCompilesToTheTwinsModel) {
   TwinParameters params;
   params.scene.tracer.use_physical_drag();
   params.scene.cotton.use_physical_drag();
-  const Twin twin(scenario.scene, params, AirFieldModel::with_default_table(), 3);
+  const Twin twin(scenario.scene, params, AirFieldModel::with_constructed_table(), 3);
   const mjModel* m = twin.model();
   // The twin's model has the objects this test is about.
   ASSERT_EQ(twin.object_count(), 6u);

@@ -120,7 +120,7 @@ Reference reference_frame(int64_t index) {
     throw StopRun{};
   };
   try {
-    run_scenario(scenario, AirFieldModel::with_default_table(), options);
+    run_scenario(scenario, AirFieldModel::with_constructed_table(), options);
   } catch (const StopRun&) {
   }
   return r;
@@ -173,9 +173,9 @@ class ViewCliTest : public ::testing::Test {
   cv::Mat screenshot(const std::string& extra_flags) {
     const std::string shot = scratch_dir("view_cli") + "/shot.png";
     const testing::CliResult r =
-        run_airtwin("view '" + line_file() +
-                    "' --seed 1 --air model --drag eq8 --camera top --speed 64 --steps " +
-                    std::to_string(kSteps) + " --screenshot '" + shot + "' " + extra_flags);
+        run_airtwin("view '" + line_file() + "' --seed 1" + testing::mirror_flags() +
+                    "--camera top --speed 64 --steps " + std::to_string(kSteps) +
+                    " --screenshot '" + shot + "' " + extra_flags);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     char closed[64];
@@ -362,7 +362,8 @@ class ViewInputTest : public ViewCliTest {
   }
   // The mirror twin (the model's air, eq. (8) drag): it needs no CFD cases read before the window
   // opens, and these tests are of the window, not of the physics.
-  const std::string view_line_ = "'" + line_file() + "' --seed 1 --paused --air model --drag eq8 ";
+  const std::string view_line_ =
+      "'" + line_file() + "' --seed 1 --paused" + testing::mirror_flags();
 };
 
 // Paused, the run does not advance; each right arrow is one camera frame (25 ms), no more.

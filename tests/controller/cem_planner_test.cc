@@ -47,7 +47,7 @@ std::vector<Eigen::Vector2d> continuous_sweep_ends(const AirFieldModel& model,
 
 class CemPlannerTest : public ::testing::Test {
  protected:
-  AirFieldModel model_ = AirFieldModel::with_default_table();
+  AirFieldModel model_ = AirFieldModel::with_constructed_table();
   std::vector<Eigen::Vector2d> p_ = {{0.20, -0.10}, {0.26, 0.02}, {0.12, 0.05}};
   std::vector<Eigen::Vector2d> v_ = {{0.0, 0.0}, {0.05, 0.0}, {0.0, 0.0}};
   std::vector<ObjectDynamics> xi_ = {kTracerDynamics, kTracerDynamics, kCottonDynamics};

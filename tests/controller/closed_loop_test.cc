@@ -78,7 +78,7 @@ TaskSpec line_task() {
 }
 
 TEST(ClosedLoop, FollowsALineUnderItsOwnModel) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   ModelRig rig(model, {ObservedObject{"t1", "tracer", {-0.26, 0.25}, {0, 0}}});
   CemParameters cem = CemParameters::line_defaults();
   cem.mean0_m = 0.3;
@@ -99,7 +99,7 @@ TEST(ClosedLoop, FollowsALineUnderItsOwnModel) {
 }
 
 TEST(ClosedLoop, StopsAtTheTimeLimitAndRemembersUnseenObjects) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   // Two objects, the first hidden from every other observation: the controller keeps planning
   // for both.
   ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}},
@@ -120,7 +120,7 @@ TEST(ClosedLoop, StopsAtTheTimeLimitAndRemembersUnseenObjects) {
 }
 
 TEST(ClosedLoop, ObjectsUnseenTooLongAreForgotten) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}},
                        ObservedObject{"b", "tracer", {-0.5, 0.1}, {0, 0}}});
   rig.hide_from_ = 2;  // "a" is seen at t = 0 only
@@ -142,7 +142,7 @@ TEST(ClosedLoop, ObjectsUnseenTooLongAreForgotten) {
 // An object the perception lost for good (blown out of the camera's view) is forgotten; the rig
 // says it is out of view, and the one still seen being in the zone does not finish the task.
 TEST(ClosedLoop, AnObjectOutOfViewKeepsTheTaskOpen) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TaskSpec agg;
   agg.kind = TaskKind::kAggregation;
   agg.zone = Zone{{-0.5, 0.1}, 0.3};  // "b" starts inside, "a" outside
@@ -172,7 +172,7 @@ TEST(ClosedLoop, AnObjectOutOfViewKeepsTheTaskOpen) {
 // nothing to plan for, and the run ends there, failed (it used to throw, which ended a whole
 // batch on one run's outcome).
 TEST(ClosedLoop, EndsFailedWhenEveryObjectIsLost) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   ModelRig rig(model, {ObservedObject{"a", "tracer", {0.5, 0.0}, {0, 0}}});
   rig.hide_from_ = 2;  // seen at t = 0 only
   rig.report_hidden_out_of_view_ = true;
@@ -193,7 +193,7 @@ TEST(ClosedLoop, EndsFailedWhenEveryObjectIsLost) {
 }
 
 TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   ModelRig rig(model, {ObservedObject{"g", "glass", {0.3, 0.0}, {0, 0}}});
   Controller controller(model, CemParameters::line_defaults(), line_task(),
                         {{"tracer", kTracerDynamics}}, 1);

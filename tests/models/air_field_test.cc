@@ -38,7 +38,7 @@ double reference_speed_at_node_tilt(const FieldTable& t, size_t tilt_index, doub
 }
 
 TEST(AirField, MatchesTheDefiningEquationAtTableTilts) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1.2, 1.2), pan(-180, 180);
   const double tilts[] = {0.0, 22.5, 45.0};
@@ -58,7 +58,7 @@ TEST(AirField, MatchesTheDefiningEquationAtTableTilts) {
 
 TEST(AirField, MakimaInTiltBetweenTableTilts) {
   // At tilt 30 deg the profile of each direction is Makima through the three table tilts.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const FieldTable& t = model.table();
   const OrientedField f = model.at(deg(0, 30));
   for (int a : {0, 45, 90, 180, 271}) {
@@ -77,7 +77,7 @@ TEST(AirField, MakimaInTiltBetweenTableTilts) {
 
 TEST(AirField, TiltIsClampedToTheFittedRange) {
   // Tilt 50 deg uses the 45 deg profiles (no extrapolation) while s follows the real geometry.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f50 = model.at(deg(10, 50));
   const OrientedField f45 = model.at(deg(10, 45));
   EXPECT_NEAR(f50.coefficient_tilt_rad(), deg_to_rad(45), 1e-15);
@@ -88,7 +88,7 @@ TEST(AirField, TiltIsClampedToTheFittedRange) {
 }
 
 TEST(AirField, ZeroAtTheStagnationPoint) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   for (double tilt : {0.0, 10.0, 22.5, 45.0}) {
     const OrientedField f = model.at(deg(90, tilt));
     EXPECT_EQ(f.speed(f.stagnation_point()), 0.0);
@@ -100,7 +100,7 @@ TEST(AirField, ZeroAtTheStagnationPoint) {
 
 TEST(AirField, ContinuousAcrossAlpha359To0) {
   // Around the downstream direction alpha wraps from 359 to 0: the profile must not jump.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   for (double pan : {0.0, 90.0, -170.0}) {
     const OrientedField f = model.at(deg(pan, 22.5));
     const double r = 0.4;
@@ -121,7 +121,7 @@ TEST(AirField, ContinuousAcrossAlpha359To0) {
 }
 
 TEST(AirField, DirectionIsRadialFromTheStagnationPoint) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(-60, 22.5));
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -137,7 +137,7 @@ TEST(AirField, DirectionIsRadialFromTheStagnationPoint) {
 
 TEST(AirField, PanRotatesTheWholeField) {
   // Rotational symmetry of the rig: the field at pan theta is the field at pan 0 rotated.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f0 = model.at(deg(0, 22.5));
   const double theta = deg_to_rad(123.0);
   const OrientedField fr = model.at({theta, deg_to_rad(22.5)});
@@ -152,14 +152,14 @@ TEST(AirField, PanRotatesTheWholeField) {
 }
 
 TEST(AirField, DownstreamStrongerThanUpstreamForTiltedJet) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(90, 22.5));  // downstream is +y
   const Eigen::Vector2d s = f.stagnation_point();
   EXPECT_GT(f.speed(s + Eigen::Vector2d(0, 0.4)), f.speed(s - Eigen::Vector2d(0, 0.4)));
 }
 
 TEST(AirField, BatchEqualsPointwise) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(33, 17));
   Eigen::Matrix2Xd p = Eigen::Matrix2Xd::Random(2, 1000);
   p.col(5) = f.stagnation_point();
@@ -176,7 +176,7 @@ TEST(AirField, BatchEqualsPointwise) {
 TEST(AirField, SharedModelIsSafeAcrossThreads) {
   // The model is immutable: four threads building fields and evaluating concurrently must get
   // exactly the single-threaded numbers.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const Eigen::Matrix2Xd p = Eigen::Matrix2Xd::Random(2, 2000);
   auto run = [&](int seed, Eigen::VectorXd* out) {
     out->resize(p.cols() * 20);
@@ -199,7 +199,7 @@ TEST(AirField, RaysViewEqualsTheFullField) {
   // OrientedRays interpolates each profile on demand, OrientedField all 360 up front: the same
   // arithmetic, so the same bits, in every direction (the wrap at 360 included) and at every
   // tilt (clamped ones included).
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> pan(-400.0, 400.0), tilt(0.0, 64.0), alpha(-7.0, 13.0);
   for (int trial = 0; trial < 50; ++trial) {
@@ -241,7 +241,7 @@ TEST(AirField, VelocityAlongRaysEqualsTheFullField) {
   // OrientedRays::velocity reads two profiles where OrientedField reads its ring: the same
   // profiles and formula, so equal to rounding (the ring's kernel may contract to FMA), at points
   // near s, far away, on the 359-0 deg seam and at s itself.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> pan(-400.0, 400.0), tilt(0.0, 64.0), xy(-2.0, 2.0);
   for (int trial = 0; trial < 50; ++trial) {
@@ -263,7 +263,7 @@ TEST(AirField, VelocityAlongRaysEqualsTheFullField) {
 }
 
 TEST(AirField, RejectsInvalidOrientation) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   EXPECT_THROW(model.at({0.0, deg_to_rad(90)}), InputError);
   EXPECT_THROW(model.at({0.0, -0.1}), InputError);
   EXPECT_THROW(model.at({NAN, 0.1}), InputError);

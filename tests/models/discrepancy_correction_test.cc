@@ -110,7 +110,7 @@ DiscrepancyReport analyse(const AirFieldModel& field, Outside effect, std::uint6
 // the rate of `unexplained` must reach `floor` of ten (at most `floor` for data without an
 // outside effect) and the structure must be found in `feature` as often.
 void check(Outside effect, const std::string& feature, int floor) {
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const bool sweep = testing::acceptance_tier();
   const int runs = sweep ? 10 : 1;
   int unexplained = 0, located = 0;

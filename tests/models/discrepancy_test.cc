@@ -62,7 +62,7 @@ DiscrepancyReport analyse(const AirFieldModel& field, const TrajectorySet& set,
 // recovered, the nuisance reads 1.2, and the extended model carries the slope alone. (With the
 // candidates' grids at ratio 1 only, this slope was not found at all: 4.4 deg toward -64 deg.)
 TEST(Discrepancy, SlopeUnderOrdinaryStaticFrictionIsRecovered) {
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ModelExtensions truth;
   truth.slope_rad = deg_to_rad(4.0);
   truth.slope_direction_rad = deg_to_rad(40.0);
@@ -140,7 +140,7 @@ TEST(Discrepancy, OptionsNameTheFieldOutOfRange) {
 // stays at 1 (the grid's smallest ratio wins ties: objects that start under both make no
 // difference).
 TEST(Discrepancy, NominalDataFindNothing) {
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const DiscrepancyReport r = analyse(field, appendix_d_data(field, ModelExtensions{}, 60, 8));
   ASSERT_TRUE(r.decidable);
   EXPECT_TRUE(r.found.empty()) << candidates(r);

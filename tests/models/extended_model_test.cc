@@ -61,7 +61,7 @@ TEST(ExtendedModel, BadFilesNameWhatIsWrong) {
 }
 
 TEST(ExtendedModel, ScaledTableScalesTheAirSpeed) {
-  const FieldTable& base = FieldTable::default_table();
+  const FieldTable& base = FieldTable::constructed_table();
   const FieldTable scaled = scaled_field_table(base, 1.3);
   for (double r : {0.1, 0.4, 0.9}) {
     EXPECT_NEAR(scaled.at(1, 37).speed(r), 1.3 * base.at(1, 37).speed(r), 1e-12);

@@ -13,7 +13,7 @@ namespace airtwin {
 namespace {
 
 const AirFieldModel& field() {
-  static const AirFieldModel m = AirFieldModel::with_default_table();
+  static const AirFieldModel m = AirFieldModel::with_constructed_table();
   return m;
 }
 

@@ -28,7 +28,7 @@ std::string error_of(const std::string& path) {
 
 TEST(FieldModelFile, TableCsvHasThePapersEqTwoAndJsonItsOwn) {
   const std::string dir = testing::fresh_scratch_dir("field_model_file");
-  FieldTable::default_table().save_csv(dir + "/table.csv");
+  FieldTable::constructed_table().save_csv(dir + "/table.csv");
   const AirFieldModel csv = read_air_field_model(dir + "/table.csv");
   EXPECT_EQ(csv.geometry().a1, 0.1);
   EXPECT_EQ(csv.geometry().a2, 2.33);
@@ -55,7 +55,7 @@ TEST(FieldModelFile, TableCsvHasThePapersEqTwoAndJsonItsOwn) {
 
 TEST(FieldModelFile, BadFilesAreOneClearError) {
   const std::string dir = testing::fresh_scratch_dir("field_model_file_bad");
-  FieldTable::default_table().save_csv(dir + "/table.csv");
+  FieldTable::constructed_table().save_csv(dir + "/table.csv");
   auto write = [&](const std::string& text) {
     std::ofstream(dir + "/m.json") << text;
     return error_of(dir + "/m.json");

@@ -30,7 +30,7 @@ std::string join_lines(const std::vector<std::string>& lines) {
 }
 
 // A valid table's text to mutate: line 0 is the header, line 1 + 360 i + a is tilt i, alpha a.
-std::string valid_text() { return FieldTable::default_table().to_csv(); }
+std::string valid_text() { return FieldTable::constructed_table().to_csv(); }
 
 // Expects parse_csv to throw an InputError whose message contains every fragment.
 void expect_error(const std::string& text, std::initializer_list<const char*> fragments) {
@@ -45,7 +45,7 @@ void expect_error(const std::string& text, std::initializer_list<const char*> fr
 }
 
 TEST(FieldTable, DefaultTableHasThePapersTilts) {
-  const FieldTable& t = FieldTable::default_table();
+  const FieldTable& t = FieldTable::constructed_table();
   ASSERT_EQ(t.n_tilts(), 3u);
   EXPECT_NEAR(rad_to_deg(t.tilts_rad()[0]), 0.0, 1e-12);
   EXPECT_NEAR(rad_to_deg(t.tilts_rad()[1]), 22.5, 1e-12);
@@ -53,7 +53,7 @@ TEST(FieldTable, DefaultTableHasThePapersTilts) {
 }
 
 TEST(FieldTable, CsvRoundTripIsExact) {
-  const FieldTable& t = FieldTable::default_table();
+  const FieldTable& t = FieldTable::constructed_table();
   const std::string text = t.to_csv();
   const FieldTable back = FieldTable::parse_csv(text, "mem");
   EXPECT_EQ(back.to_csv(), text);

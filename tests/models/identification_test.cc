@@ -12,7 +12,7 @@ namespace airtwin {
 namespace {
 
 TEST(Identification, TracerTrajectoriesGiveTheTracerModelAndASmallMape) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TrajectorySet set = testing::make_ray_trajectories(model, -2.66, 4.26, -8.53, 60, 11, "tracer");
   // Cotton trajectories in the same file are left alone.
   const TrajectorySet cotton =

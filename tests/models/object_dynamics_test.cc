@@ -112,7 +112,7 @@ TEST(ObjectDynamics, AccelerationIsEquationEightAndTheThresholdZeroesTheDrive) {
 
 TEST(Ray, ReproducesTheFieldAlongTheRayThroughAPoint) {
   // Independent truth: the field model's own evaluation at points along the ray.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> pan(-kPi, kPi), tilt(0, deg_to_rad(50)), offset(-0.9, 0.9),
       scale(0.0, 2.0);
@@ -136,7 +136,7 @@ TEST(Ray, ReproducesTheFieldAlongTheRayThroughAPoint) {
 }
 
 TEST(Ray, AtTheStagnationPointThereIsNoDirectionAndNoAir) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at({0.4, deg_to_rad(20)});
   const Ray ray = ray_through(f, f.stagnation_point());
   EXPECT_EQ(ray.r0, 0.0);
@@ -150,7 +150,7 @@ TEST(Ray, AtTheStagnationPointThereIsNoDirectionAndNoAir) {
 }
 
 TEST(MovingRate, IsEquationsEightAndNineWithTheFieldModel) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at({-1.0, deg_to_rad(30)});
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> offset(-0.7, 0.7), speed(0.0, 2.0);

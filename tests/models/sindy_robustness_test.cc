@@ -81,7 +81,7 @@ struct NoisyPairs {
 
 NoisyPairs make_noisy_pairs(std::uint64_t seed, Noise kind, int smoothing_half_window = 4) {
   const SpeedSeries clean =
-      parse_speed_series_csv(testing::make_speed_series_csv(AirFieldModel::with_default_table(),
+      parse_speed_series_csv(testing::make_speed_series_csv(AirFieldModel::with_constructed_table(),
                                                             kXi1, kXi2, kXi3, 100, seed, 0.0),
                              "clean.csv");
   double sum_squares = 0;
@@ -140,7 +140,7 @@ const char* noise_name(Noise kind) {
 // way, by a Levenberg-Marquardt fit of the one-step flow).
 TEST(SindyRobustness, IndependentLeastSquaresIsACorrectBaseline) {
   const SpeedSeries clean =
-      parse_speed_series_csv(testing::make_speed_series_csv(AirFieldModel::with_default_table(),
+      parse_speed_series_csv(testing::make_speed_series_csv(AirFieldModel::with_constructed_table(),
                                                             kXi1, kXi2, kXi3, 100, 31, 0.0),
                              "clean.csv");
   const SpeedPairs d = speed_pairs_from_series(clean, SpeedPairOptions{}, nullptr);

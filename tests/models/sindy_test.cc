@@ -28,7 +28,7 @@ Xi model3(double xi1, double xi2, double xi3) {
 // Speed series of objects released at rest along rays of the default field, integrated with a
 // fine RK4 (independent of the identification code) and sampled at 40 Hz while moving.
 SpeedPairs make_series(double xi1, double xi2, double xi3, int n_traj, std::uint64_t seed) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> start(0.2, 0.58), alpha(0, 2 * kPi), pan(-kPi, kPi);
   std::vector<double> v, va, vn, van;

@@ -31,7 +31,7 @@ Eigen::Matrix<double, kSindyTerms, 1> truth(double xi1, double xi2, double xi3) 
 }
 
 TEST(SpeedPairs, CentralDifferencesFromPositionsRecoverTheTracer) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 100, 1, "tracer");
   SpeedPairReport rep;
   const SpeedPairs d = speed_pairs_from_trajectories(set, model, SpeedPairOptions{}, &rep);
@@ -49,7 +49,7 @@ TEST(SpeedPairs, CentralDifferencesFromPositionsRecoverTheTracer) {
 }
 
 TEST(SpeedPairs, GlitchedFramesAreFoundAndRepaired) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const TrajectorySet clean = make_ray_trajectories(model, -2.66, 4.26, -8.53, 60, 2, "tracer");
   TrajectorySet glitched = clean;
   std::mt19937_64 rng(3);
@@ -109,7 +109,7 @@ double worst_relative_error(const SindyResult& r, double xi1, double xi2, double
 }
 
 TEST(SpeedPairs, TwoPercentGlitchedFramesStillIdentifyWithinTenPercent) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   for (auto [xi1, xi2, xi3, object] :
        {std::tuple{-2.66, 4.26, -8.53, "tracer"}, std::tuple{-4.25, 3.46, -4.12, "cotton"}}) {
     SCOPED_TRACE(object);
@@ -138,7 +138,7 @@ TEST(SpeedPairs, TwoPercentGlitchedFramesStillIdentifyWithinTenPercent) {
 TEST(SpeedPairs, FivePercentSpeedNoiseIdentifiesWithinFivePercent) {
   // Noise in the regressor v_k biases every least-squares method (errors in variables); the
   // Savitzky-Golay step removes most of it. Without smoothing the same data miss by more.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   for (auto [xi1, xi2, xi3, seed] :
        {std::tuple{-2.66, 4.26, -8.53, 7}, std::tuple{-4.25, 3.46, -4.12, 8}}) {
     SCOPED_TRACE(xi1);
@@ -167,7 +167,7 @@ TEST(SpeedPairs, MillimetreDetectionNoiseIsEstimatedAndSmoothedAway) {
   // 1 mm of Gaussian noise per axis (a 1024 px camera over 2.5 m resolves ~2.4 mm per pixel):
   // raw central differences would carry ~28 mm/s of noise, and objects at rest would look like
   // moving ones. The noise is estimated, positions are smoothed, the rest threshold raised.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 100, 31, "tracer");
   std::mt19937_64 rng(32);
   std::normal_distribution<double> noise(0.0, 0.001);
@@ -194,7 +194,7 @@ TEST(SpeedPairs, MillimetreDetectionNoiseIsEstimatedAndSmoothedAway) {
 TEST(SpeedPairs, SignedMeasuredSpeedsAreDataAndTheirNoiseIsEstimated) {
   // A measured speed (a projection or a finite difference) of an object at rest scatters around
   // zero: half of those samples are negative. Additive noise of 3 cm/s on every v.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const SpeedSeries clean = parse_speed_series_csv(
       make_speed_series_csv(model, -2.66, 4.26, -8.53, 100, 11, 0.0), "clean.csv");
   std::mt19937_64 rng(12);
@@ -244,7 +244,7 @@ TEST(SpeedPairs, SeriesRunsAreSplitAtRest) {
 TEST(SpeedPairs, MotionOffTheRadialDirectionIsNotUsed) {
   // An object circling s at 0.3 m/s, always at right angles to eq. (9)'s radial direction: every
   // moving sample is excluded and counted, no pair is made. With the check off, all are used.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const NozzleOrientation o{0.0, 0.0};
   const Eigen::Vector2d s = model.at(o).stagnation_point();
   TrajectorySet set;
@@ -270,7 +270,7 @@ TEST(SpeedPairs, MotionOffTheRadialDirectionIsNotUsed) {
 TEST(SpeedPairs, TheTransientAfterACommandChangeIsNotUsed) {
   // Frames within transient_s of the first frame and of a command change are excluded: 0.25 s at
   // 40 Hz is frames 1..9 after the start (interior frames) and 10 frames after the change.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 1, 41, "tracer");
   Trajectory& tr = set.trajectories[0];
   // Moving away from s at a steady 0.4 m/s, radially, so every sample moves and is radial.
@@ -292,7 +292,7 @@ TEST(SpeedPairs, TheTransientAfterACommandChangeIsNotUsed) {
 }
 
 TEST(SpeedPairs, MixedFrameRatesAreRejected) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TrajectorySet set = make_ray_trajectories(model, -2.66, 4.26, -8.53, 3, 4, "tracer");
   for (auto& s : set.trajectories[1].samples) s.t_s *= 2;  // 20 Hz
   try {

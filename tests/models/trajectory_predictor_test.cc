@@ -190,7 +190,7 @@ TEST_P(BothPredictors, SpeedCarriesOverAndTheDirectionTurnsRadialFromTheNewS) {
 TEST_P(BothPredictors, AnObjectAtTheStagnationPointStaysThereWhileItsSpeedDecays) {
   // At s there is no direction and no air: eq. (8) with v_air = 0 until v reaches 0.
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(40, 30));
   const std::vector<ObjectDynamics> dyn = {kTracerDynamics};
   const std::vector<ObjectState> start = {{f.stagnation_point(), 1.5}};
@@ -204,7 +204,7 @@ TEST_P(BothPredictors, AnObjectAtTheStagnationPointStaysThereWhileItsSpeedDecays
 TEST_P(BothPredictors, PapersTracerThirtyCentimetresFromSMovesThenStopsWithinTheRecording) {
   // Appendix D: objects placed 20-58 cm from s move, and stop within the 2 s recording.
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(0, 0));
   std::vector<ObjectDynamics> dyn;
   std::vector<ObjectState> start;
@@ -241,7 +241,7 @@ TEST_P(BothPredictors, PapersTracerThirtyCentimetresFromSMovesThenStopsWithinThe
 
 TEST_P(BothPredictors, SamplesAreAtTheRequestedRateFromStartToEnd) {
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientationSchedule schedule = {{0.0, deg(10, 10)}, {0.3123, deg(100, 30)}};
   const std::vector<ObjectDynamics> dyn = {kTracerDynamics, kCottonDynamics};
   const std::vector<ObjectState> start = {{Eigen::Vector2d(0.4, 0.1), 0.2},
@@ -268,7 +268,7 @@ TEST_P(BothPredictors, SamplesAreAtTheRequestedRateFromStartToEnd) {
 
 TEST_P(BothPredictors, ScheduleEntriesBeforeZeroAndAfterTheHorizonAreHandled) {
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const std::vector<ObjectDynamics> dyn = {kTracerDynamics};
   const std::vector<ObjectState> start = {{Eigen::Vector2d(0.3, -0.2), 0.1}};
   const Prediction single = p.predict(model.at(deg(20, 22.5)), dyn, start);
@@ -282,7 +282,7 @@ TEST_P(BothPredictors, TheRaysViewPredictsWhatTheFullFieldDoes) {
   // Fast: the rays' profiles are the full field's, bit for bit. CVODE: it builds the full field
   // from the rays. Either way the same bits, samples and rest times included.
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::vector<ObjectDynamics> dyn;
   std::vector<ObjectState> start;
   std::mt19937_64 rng(11);
@@ -310,7 +310,7 @@ TEST_P(BothPredictors, TheRaysViewPredictsWhatTheFullFieldDoes) {
 
 TEST_P(BothPredictors, RerunsAreBitIdentical) {
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientationSchedule schedule = {
       {0.0, deg(0, 22.5)}, {0.4, deg(60, 10)}, {0.9, deg(-45, 45)}};
   std::vector<ObjectDynamics> dyn;
@@ -342,7 +342,7 @@ TEST_P(BothPredictors, ConcurrentCallsOnOnePredictorMatchSerialOnes) {
   // predict() is const and owns its scratch: threads sharing a predictor and a model agree with a
   // serial run bit for bit.
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::vector<OrientationSchedule> schedules;
   for (int i = 0; i < 4; ++i) {
     schedules.push_back({{0.0, deg(40.0 * i, 7.5 * i)}, {0.7, deg(-30.0 * i, 45 - 5.0 * i)}});
@@ -370,7 +370,7 @@ TEST_P(BothPredictors, ConcurrentCallsOnOnePredictorMatchSerialOnes) {
 
 TEST_P(BothPredictors, BadInputIsAnInputError) {
   const TrajectoryPredictor& p = *GetParam().predictor;
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(0, 0));
   const std::vector<ObjectDynamics> one = {kTracerDynamics};
   const std::vector<ObjectState> ok = {{Eigen::Vector2d(0.3, 0), 0.0}};
@@ -400,7 +400,7 @@ TEST_P(BothPredictors, BadInputIsAnInputError) {
 // all directions, at rest and moving, tilts 0-45 deg (table and non-table tilts), varied pans,
 // both object types.
 TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreOverTheAppendixDEnvelope) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const CvodePredictor reference;
   const FastPredictor fast;
   const FastPredictor too_coarse({0.5});  // shows that the envelope can tell steps apart
@@ -451,7 +451,7 @@ TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreOverTheAppendixDEnvelope) 
 // Within a few cm of s eq. (3) rises steeply (b3 ~ -28 1/m) and the dynamics are ~10x faster: the
 // fast path shortens the steps of the objects there. Objects starting 0.5-15 cm from s.
 TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreNearTheStagnationPoint) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const CvodePredictor reference;
   const FastPredictor fast;
   FastPredictor::Options fixed_step;
@@ -494,7 +494,7 @@ TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreNearTheStagnationPoint) {
 
 // Same, under piecewise-constant schedules with 2-3 orientation changes, sampled at 40 Hz.
 TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreUnderSchedules) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const CvodePredictor reference;
   const FastPredictor fast;
   std::mt19937_64 rng(1234);
@@ -539,7 +539,7 @@ TEST(FastPredictor, AgreesWithCvodeWithinOneMillimetreUnderSchedules) {
 
 TEST(FastPredictor, BatchingDoesNotChangeTheAnswer) {
   // Objects are independent lanes: one at a time or 70 together (3 blocks) give the same bits.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const OrientedField f = model.at(deg(75, 17));
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> u(-0.6, 0.6), v(0, 1);
@@ -568,7 +568,7 @@ TEST(CvodePredictor, SolverFailuresAreExceptionsWithSundialsWords) {
   CvodePredictor::Options o;
   o.max_num_steps = 2;  // far too few for 1.5 s at rtol 1e-10
   const CvodePredictor starved(o);
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const std::vector<ObjectDynamics> dyn = {kTracerDynamics};
   const std::vector<ObjectState> start = {{Eigen::Vector2d(0.3, 0.0), 0.5}};
   try {

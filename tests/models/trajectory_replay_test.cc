@@ -17,7 +17,7 @@ namespace airtwin {
 namespace {
 
 TEST(TrajectoryReplay, TheTrueModelReplaysItsOwnDataWithinAFractionOfAPercent) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   const TrajectorySet set =
       testing::make_ray_trajectories(model, -2.66, 4.26, -8.53, 40, 3, "tracer");
   const ReplayReport r = replay_trajectories(set, model, kTracerDynamics, FastPredictor());
@@ -42,7 +42,7 @@ TEST(TrajectoryReplay, TheTrueModelReplaysItsOwnDataWithinAFractionOfAPercent) {
 TEST(TrajectoryReplay, FollowsTheRecordedScheduleLikeThePredictor) {
   // One trajectory whose command changes twice; its replay must equal a direct prediction under
   // the same schedule by a second implementation (CVODE), started from the same state.
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   Trajectory tr;
   tr.id = "a";
   tr.object = "tracer";
@@ -76,7 +76,7 @@ TEST(TrajectoryReplay, FollowsTheRecordedScheduleLikeThePredictor) {
 }
 
 TEST(TrajectoryReplay, TooShortOrMotionlessTrajectoriesAreCountedNotUsed) {
-  const AirFieldModel model = AirFieldModel::with_default_table();
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
   TrajectorySet set;
   Trajectory still, two;
   still.id = "still";

@@ -27,9 +27,9 @@ double search_peak(const FieldCoefficients& c, double* r_at = nullptr) {
 
 TEST(WallJetTable, ShippedDefaultTableIsExactlyTheGeneratorOutput) {
   const std::string shipped =
-      read_text_file(std::string(AIRTWIN_SOURCE_DIR) + "/models/data/default_field_table.csv");
+      read_text_file(std::string(AIRTWIN_SOURCE_DIR) + "/models/data/constructed_field_table.csv");
   EXPECT_EQ(construct_wall_jet_table(WallJetDesign{}).to_csv(), shipped)
-      << "regenerate with: airtwin maketable --out models/data/default_field_table.csv";
+      << "regenerate with: airtwin maketable --out models/data/constructed_field_table.csv";
 }
 
 TEST(WallJetTable, ObliqueMomentumShareConservesMomentum) {

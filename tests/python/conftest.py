@@ -10,10 +10,10 @@ SOURCE_DIR = os.environ["AIRTWIN_SOURCE_DIR"]
 
 # The CLI's twin is the physical one by default (docs/twin.md), the module's still the mirror
 # (docs/python.md): CLI runs compared with the module's defaults name the mirror, and those in
-# the CFD's air name eq. (8) drag and the built-in table (its CSV gives the same bytes).
+# the CFD's air name eq. (8) drag. Both take the default field model, the one fitted to the CFD.
 MIRROR = ("--air", "model", "--drag", "eq8")
-CFD_AIR_EQ8 = ("--air", "cfd", "--drag", "eq8", "--table",
-               os.path.join(SOURCE_DIR, "models/data/default_field_table.csv"))
+CONSTRUCTED = os.path.join(SOURCE_DIR, "models/data/constructed_field_table.csv")
+CFD_AIR_EQ8 = ("--air", "cfd", "--drag", "eq8")
 
 
 def run_cli(*args):

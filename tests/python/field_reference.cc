@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   try {
     const std::string table = argv[1];
     const AirFieldModel model =
-        table == "default" ? AirFieldModel::with_default_table() : read_air_field_model(table);
+        table == "default" ? AirFieldModel::fitted_to_cfd() : read_air_field_model(table);
     const NozzleOrientation o{deg_to_rad(std::strtod(argv[2], nullptr)),
                               deg_to_rad(std::strtod(argv[3], nullptr))};
     std::vector<double> xy;

@@ -51,15 +51,20 @@ def test_field_model_file_equals_the_cpp_library_bit_for_bit():
     points = random_points(300, seed=3)
     v = airtwin.Field.from_file(path).velocity(40.0, 30.0, points)
     assert np.array_equal(v, reference_velocity(path, 40.0, 30.0, points))
-    # Another model than the default's: the file was read.
-    assert not np.array_equal(v, airtwin.Field.default().velocity(40.0, 30.0, points))
+    # Another model than the constructed table's: the file was read.
+    assert not np.array_equal(v, airtwin.Field.constructed().velocity(40.0, 30.0, points))
 
 
-def test_shipped_table_file_equals_the_compiled_in_default():
-    table = airtwin.Field.from_file(os.path.join(SOURCE_DIR, "models/data/default_field_table.csv"))
+def test_shipped_files_equal_the_compiled_in_models():
     points = random_points(200, seed=5)
+    table = airtwin.Field.from_file(os.path.join(SOURCE_DIR, "models/data/constructed_field_table.csv"))
     assert np.array_equal(table.velocity(10.0, 35.0, points),
+                          airtwin.Field.constructed().velocity(10.0, 35.0, points))
+    fitted = airtwin.Field.from_file(os.path.join(SOURCE_DIR, "models/data/cfd_fitted_field_model.json"))
+    assert np.array_equal(fitted.velocity(10.0, 35.0, points),
                           airtwin.Field.default().velocity(10.0, 35.0, points))
+    assert not np.array_equal(fitted.velocity(10.0, 35.0, points),
+                              table.velocity(10.0, 35.0, points))
 
 
 @pytest.mark.parametrize("pan_deg,tilt_deg", ORIENTATIONS[1:3])
@@ -113,8 +118,9 @@ def test_bad_input_raises_value_error_with_the_cli_message(tmp_path):
 
 def test_bad_orientation_and_shape_raise_value_error():
     field = airtwin.Field.default()
-    with pytest.raises(ValueError, match=r"^nozzle orientation: tilt 70\.000000 deg .*fold"):
-        field.velocity(0.0, 70.0, random_points(3))
+    # Beyond eq. (2)'s fold with the default model's a1, a2 (88.7 deg).
+    with pytest.raises(ValueError, match=r"^nozzle orientation: tilt 89\.000000 deg .*fold"):
+        field.velocity(0.0, 89.0, random_points(3))
     with pytest.raises(ValueError, match=r"^points: expected an N x 2 array, got shape \(3,\)$"):
         field.velocity(0.0, 10.0, np.zeros(3))
     with pytest.raises(ValueError, match=r"got shape \(4, 3\)$"):

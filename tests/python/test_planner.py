@@ -23,7 +23,7 @@ def eq10(positions, references, s, horizon_s):
     return np.hypot(*(end - references).T).sum(), end
 
 
-@pytest.mark.parametrize("s", [(0.55, -0.1), (0.4, 0.3), (0.15, 0.0), (0.3, -0.2)])
+@pytest.mark.parametrize("s", [(0.15, -0.15), (0.4, 0.3), (0.15, 0.0), (0.3, -0.2)])
 def test_cost_is_eq10_on_the_predicted_ends(s):
     positions = OCTAGON.positions
     references = positions + [0.1, 0.05]

@@ -125,6 +125,7 @@ def test_bad_input_raises_value_error_with_the_library_message():
     with pytest.raises(ValueError, match=r"^pan_deg, tilt_deg: expected 2 values each"):
         airtwin.predict(FIELD, PAN_DEG, TILT_DEG, positions, xi, t_start_s=[0.0, 0.5])
     with pytest.raises(ValueError, match=r"^orientation schedule: entry 1"):
-        airtwin.predict(FIELD, [0.0, 0.0], [10.0, 80.0], positions, xi, t_start_s=[0.0, 0.5])
+        # 89 deg: beyond the fold of eq. (2) with the default model's a1, a2 (88.7 deg).
+        airtwin.predict(FIELD, [0.0, 0.0], [10.0, 89.0], positions, xi, t_start_s=[0.0, 0.5])
     with pytest.raises(ValueError, match=r"^method: expected fast or cvode, got 'euler'$"):
         airtwin.predict(FIELD, PAN_DEG, TILT_DEG, positions, xi, method="euler")

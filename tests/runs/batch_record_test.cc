@@ -19,7 +19,7 @@ TEST(BatchRecord, HoldsTheRunSummaryAndReadsBackExactly) {
   const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/line.yaml");
   ScenarioRunOptions options;
   options.seed = 2;
-  const ScenarioRunResult r = run_scenario(sc, AirFieldModel::with_default_table(), options);
+  const ScenarioRunResult r = run_scenario(sc, AirFieldModel::with_constructed_table(), options);
   const std::string json = record_json(r, sc.task.time_limit_s, 0.25);
   // The summary's keys in its order, then the wall time.
   const auto j = nlohmann::ordered_json::parse(json);

@@ -38,7 +38,7 @@ std::string short_line(const std::string& dir, double limit_s) {
 
 BatchRunResult run_in(const std::string& dir, const BatchPlan& plan, BatchRunOptions options) {
   const BatchStore store(dir, BatchManifest::of_plan(plan, {{"perception", "test"}}));
-  return run_batch(plan, AirFieldModel::with_default_table(), store, options);
+  return run_batch(plan, AirFieldModel::with_constructed_table(), store, options);
 }
 
 // The batch run with one and with two worker threads, each in a folder of its own under `dir`.

@@ -42,7 +42,7 @@ CameraCollectionOptions quick_options() {
 
 TEST(CameraCollection, PositionsAgreeWithTheTruthAndRerunsAreTheSameBytes) {
   const CameraCollectionOptions o = quick_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const CameraCollectionResult r = run_camera_collection(o, field, calibrated_camera());
   ASSERT_EQ(r.planned, 2);
   ASSERT_EQ(r.kept, 2) << r.not_found_at_start << " " << r.lost << " " << r.left_view;
@@ -92,7 +92,7 @@ TEST(CameraCollection, PositionsAgreeWithTheTruthAndRerunsAreTheSameBytes) {
 
 TEST(CameraCollection, TrialsTheCameraDoesNotFollowAreDroppedAndCounted) {
   const CameraCollectionOptions o = quick_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   CameraCollectionOptions three = o;
   three.collection.per_tilt = 3;
   three.collection.tilts_rad = {0.0};

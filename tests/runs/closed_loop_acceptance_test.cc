@@ -50,7 +50,7 @@ enum class TwinKind { kPhysical, kMirror };
 Tally run_seeds(const std::string& name, int seeds, TwinKind twin = TwinKind::kPhysical) {
   const Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   const AirFieldModel field = twin == TwinKind::kPhysical ? testing::cfd_fitted_field()
-                                                          : AirFieldModel::with_default_table();
+                                                          : AirFieldModel::with_constructed_table();
   Tally t;
   std::vector<double> times, means, maxes;
   for (int seed = 1; seed <= seeds; ++seed) {

@@ -20,7 +20,7 @@ std::string scene(const std::string& name) {
 // controller's run, frame by frame: the episode aims as the planner aims.
 TEST(ScenarioEpisode, TheControllersPointsAsCallersCommandsGiveTheSameRun) {
   const Scenario sc = read_scenario(scene("octagon"));
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ScenarioRunOptions options;
   options.seed = 4;
   ScenarioEpisode controlled(sc, field, options), replayed(sc, field, options);
@@ -40,7 +40,7 @@ TEST(ScenarioEpisode, TheControllersPointsAsCallersCommandsGiveTheSameRun) {
 // for an s within delta_min of an object.
 TEST(ScenarioEpisode, TheLastCostIsEq10OnWhereTheObjectsGot) {
   const Scenario sc = read_scenario(scene("octagon"));
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ScenarioRunOptions options;
   options.seed = 2;
   ScenarioEpisode episode(sc, field, options);
@@ -60,7 +60,7 @@ TEST(ScenarioEpisode, TheLastCostIsEq10OnWhereTheObjectsGot) {
 TEST(ScenarioEpisode, AFinishedEpisodeRefusesTurns) {
   Scenario sc = read_scenario(scene("line"));
   sc.task.time_limit_s = 3.0;
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ScenarioRunOptions options;
   options.seed = 1;
   ScenarioEpisode episode(sc, field, options);

@@ -16,7 +16,7 @@ std::string scene(const std::string& name) {
 // One tracer along the 52 cm line: a run takes well under a second of wall time.
 TEST(ScenarioRun, LineSucceedsAndTheLogIsTheTruth) {
   const Scenario sc = read_scenario(scene("line"));
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ScenarioRunOptions options;
   options.seed = 3;
   const ScenarioRunResult r = run_scenario(sc, field, options);
@@ -73,7 +73,7 @@ TEST(ScenarioRun, TheSummarySuccessIsTheTruthsVerdict) {
 
 TEST(ScenarioRun, SameSeedSameBytesOtherSeedOtherRun) {
   const Scenario sc = read_scenario(scene("line"));
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   ScenarioRunOptions options;
   options.seed = 5;
   const std::string a = trajectory_csv(run_scenario(sc, field, options).log);

@@ -68,7 +68,7 @@ void push_at(Floating& f, AirForces& air, const Eigen::Vector2d& v) {
 TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
   Floating f;
   const SceneParameters scene;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.4, 0.3});
   AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
   air.set_air(field, 0.7);
@@ -88,7 +88,7 @@ TEST(AirForces, DragGivesTheScaledRelativeAirSpeedLaw) {
 // Physical drag: 1/2 rho C_D(Re) A |u_rel| u_rel with C_D(Re) = C_D + 24 / Re, written here as
 // the drag coefficient's law; at high and at low relative speed (where the viscous part counts).
 TEST(AirForces, PhysicalDragIsQuadraticWithAViscousPart) {
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.4, 0.3});
   SceneParameters scene;
   scene.tracer.drag_law = DragLaw::kPhysical;
@@ -140,7 +140,7 @@ TEST(AirForces, DragActsOnTheVelocityOfThePointItPushes) {
   Floating f(kOffsetCentre);
   mjData* data = f.data.get();
   const SceneParameters scene;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.4, 0.3});
   AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
   air.set_air(field, 1.0);
@@ -170,7 +170,7 @@ TEST(AirForces, DragActsOnTheVelocityOfThePointItPushes) {
 TEST(AirForces, PressurePushIsRadialAndPeaksNearTheStagnationPoint) {
   Floating f;
   const SceneParameters scene;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   // Tilt 0: s is the origin. Put the body at r = b / sqrt(2), where the push peaks.
   const OrientedField field = field_model.at({0.0, 0.0});
   AirForceParameters params = AirForceParameters::none();
@@ -207,7 +207,7 @@ TEST(AirForces, PressurePushIsRadialAndPeaksNearTheStagnationPoint) {
 TEST(AirForces, OnlyTheRegisteredModelOnTheRegisteringThreadIsPushed) {
   Floating a, b;
   const SceneParameters scene;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.0, 0.2});
   AirForces air(AirForceParameters::none(), scene, {a.object}, 1, 0.001);
   air.set_air(field, 1.0);
@@ -235,7 +235,7 @@ TEST(AirForces, EffectTermsFollowTheirLaws) {
   // The free sphere at p with velocity v, one effect at a time, against the law in the header.
   const SceneParameters scene;
   const ObjectTypeParameters& t = scene.tracer;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.0, 0.0});  // s at the origin
   const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
   const double jet = 0.9;
@@ -299,7 +299,7 @@ TEST(AirForces, FastPathMatchesMjApplyFT) {
   params.flow_deflection_rad = 0.3;
   params.quadratic_drag_per_m = 0.5;
   params.extra_push_mps2 = 4.0;
-  const AirFieldModel field_model = AirFieldModel::with_default_table();
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.4, 0.15});
   AirForces fast(params, scene, built.objects, 9, scene.timestep_s);
   AirForces slow(params, scene, built.objects, 9, scene.timestep_s);

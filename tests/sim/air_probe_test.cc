@@ -148,7 +148,7 @@ TEST(AirProbe, AFrontCarriedByTheOldAirArrivesSoonerByItsPathIntegral) {
 // The probe and the twin's own object at the same point feel the same air: a tracer held by
 // friction where the probe is, the nozzle jumping (servos 1000x the rig's) as above.
 TEST(AirProbe, FeelsWhatTheTwinsObjectThereFeels) {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   TwinParameters p;
   p.air = AirForceParameters::none();
   p.air.stagnation_pressure_pa = 0.0;

@@ -239,7 +239,7 @@ TEST(AirTransport, BadParametersNameTheField) {
 double onset_s(double front_speed_mps, bool cfd_timing) {
   static const auto cfd =
       std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   TwinParameters p;
   p.air = AirForceParameters::none();
   p.scene.tracer.static_friction_ratio = 1.0;
@@ -321,7 +321,7 @@ struct Formed {
 Formed formed(double time_scale = 1.0) {
   static const auto cfd =
       std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   const NozzleOrientation a{kPi, deg_to_rad(22.5)}, b{0.0, deg_to_rad(22.5)};
   TwinParameters p;
   p.air = AirForceParameters::none();

@@ -49,7 +49,7 @@ TEST(Collection, ThePlanFollowsAppendixD) {
 
 TEST(Collection, TrialsRecordTwoSecondsAtFortyHertzUnderTheTargetCommand) {
   const CollectionOptions o = quick_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::vector<CollectionTrial> plan = plan_collection(o);
   const Trajectory tr = run_collection_trial(plan[1], o, field);
   ASSERT_EQ(tr.samples.size(), 81u);
@@ -66,7 +66,7 @@ TEST(Collection, TrialsRecordTwoSecondsAtFortyHertzUnderTheTargetCommand) {
 
 TEST(Collection, LeadInRecordsTheIdleCommandBeforeTheReAimAndChangesNothingAfter) {
   CollectionOptions o = quick_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::vector<CollectionTrial> plan = plan_collection(o);
   const Trajectory plain = run_collection_trial(plan[1], o, field);
   o.lead_in_s = 0.25;
@@ -94,7 +94,7 @@ TEST(Collection, APlacedObjectStartsFromRestInSteadyAirUnlessItsStaticFrictionHo
   CollectionOptions o = quick_options();
   o.per_tilt = 6;
   o.protocol = CollectionProtocol::kMixed;
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::vector<CollectionTrial> plan = plan_collection(o);
   const CollectionTrial* strong = nullptr;
   for (const CollectionTrial& t : plan) {
@@ -147,7 +147,7 @@ TEST(Collection, APlacedObjectStartsFromRestInSteadyAirUnlessItsStaticFrictionHo
 
 TEST(Collection, SameSeedSameBytesWhateverTheThreadCount) {
   CollectionOptions o = quick_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::string one = trajectory_csv(run_collection(o, field));
   EXPECT_EQ(trajectory_csv(run_collection(o, field)), one);
   o.threads = 2;

@@ -64,7 +64,7 @@ TEST(DragCalibration, BadOptionsNameTheirField) {
 
 TEST(DragCalibration, GridThenRefinementAndTheBestIsTheClosest) {
   const DragCalibrationOptions o = small_options();
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   size_t reported = 0;
   const DragCalibration c =
       calibrate_drag(o, field, [&](const DragCalibrationPoint&, size_t i) { reported = i + 1; });

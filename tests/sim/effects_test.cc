@@ -172,7 +172,7 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
 // Physics: short twin runs, each against the nominal twin or an independent truth.
 
 const AirFieldModel& field_model() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 

@@ -19,7 +19,7 @@ namespace {
 
 IdentifiedModel collect_and_identify(const std::string& object, int per_tilt, std::uint64_t seed,
                                      const IdentificationOptions& options = {}) {
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   CollectionOptions o;
   o.object = object;
   o.per_tilt = per_tilt;
@@ -91,7 +91,7 @@ TEST(TwinCalibration, CottonWithEquationEightsTermsWhereTheSelectionFails) {
 TEST(TwinCalibration, RepeatabilityFromOneStartIsNearThePapers) {
   // Paper (section IV-B): a tracer placed at the same start (within 5 mm) at 0 deg tilt ends
   // 7.7% (MAPE of the travelled distance) away from where the first run ended.
-  const AirFieldModel field = AirFieldModel::with_default_table();
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
   CollectionOptions o;
   o.per_tilt = 8;
   o.seed = 13;

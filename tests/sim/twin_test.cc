@@ -31,7 +31,7 @@ std::string numbered(const char* prefix, int i) {
 }
 
 const AirFieldModel& field_model() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 

@@ -35,7 +35,7 @@ namespace airtwin {
 namespace {
 
 const AirFieldModel& field_model() {
-  static const AirFieldModel model = AirFieldModel::with_default_table();
+  static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
 }
 
