@@ -64,10 +64,7 @@ void check_run_setup_flags(const RunSetupFlags& f) {
 
 std::vector<std::string> controller_models(const RunSetupFlags& f) {
   if (!f.models.empty()) return f.models;
-  if (f.air.air == "cfd" && f.air.drag == "physical") {
-    return {std::string(AIRTWIN_MODEL_DATA_DIR) + "/twin/extended_model.json"};
-  }
-  return {};
+  return default_controller_models(f.air.air == "cfd", f.air.drag == "physical");
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) { return field_model_or_default(f.table); }

@@ -46,9 +46,15 @@ struct RunResult {
 // What the controller plans with, as `--table` and `--model` set it: the field model (the twin's
 // analytical air too) and the model files.
 struct ControllerSetup {
-  std::string table;  ///< "": the built-in table
-  std::vector<std::string> models;
+  std::string table;                ///< "": the default model, fitted to the CFD
+  std::vector<std::string> models;  ///< empty: default_controller_models of the twin
 };
+
+// The model files the controller plans with: its own, or those fitted to the twin `setup` builds.
+std::vector<std::string> models_of(const ControllerSetup& controller, const TwinSetup& setup) {
+  if (!controller.models.empty()) return controller.models;
+  return default_controller_models(setup.air == "cfd", setup.drag == "physical");
+}
 
 AirFieldModel field_model_of(const ControllerSetup& setup) {
   return setup.table.empty() ? AirFieldModel::fitted_to_cfd() : read_air_field_model(setup.table);
@@ -61,7 +67,7 @@ RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& 
   ScenarioRunOptions options;
   options.seed = seed;
   options.twin = twin_parameters(setup, scenario);
-  plan_with_model_files(controller.models, field, &options);
+  plan_with_model_files(models_of(controller, setup), field, &options);
   py::gil_scoped_release release;
   return {run_scenario(scenario, field, options), scenario.task.time_limit_s};
 }
@@ -77,7 +83,7 @@ class PyEpisode {
       : scenario_(read_scenario(scenario_path)), field_(field_model_of(controller)) {
     options_.seed = seed;
     options_.twin = twin_parameters(setup, scenario_);
-    plan_with_model_files(controller.models, field_, &options_);
+    plan_with_model_files(models_of(controller, setup), field_, &options_);
     py::gil_scoped_release release;
     if (vision) {
       options_.vision.rate_hz = vision_rate_hz;
@@ -220,8 +226,8 @@ void bind_run(py::module_& m) {
                              air_front_counter_flow},
                    ControllerSetup{table, models});
       },
-      py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
-      py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
+      py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "cfd",
+      py::arg("drag") = "physical", py::arg("object_physics") = std::vector<std::string>{},
       py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "", py::arg("table") = "",
       py::arg("models") = std::vector<std::string>{}, py::arg("air_formation") = py::none(),
       py::arg("air_formation_time_scale") = AirTransportParameters{}.formation_time_scale,
@@ -236,8 +242,9 @@ void bind_run(py::module_& m) {
       "--air-formation-time-scale, --integrator; air_front_co_flow, air_front_counter_flow: "
       "--air-front-co-flow, --air-front-counter-flow); the controller's field model `table` "
       "(a table CSV or field-model "
-      "JSON, as --table; default the built-in table) and `models` (model.json or "
-      "extended_model.json files, as --model).");
+      "JSON, as --table; default the one fitted to the CFD) and `models` (model.json or "
+      "extended_model.json files, as --model; default, as the CLI's: in the physical twin the "
+      "models fitted to it, models/data/twin/extended_model.json, else the paper's eq. (8)).");
 
   py::class_<DecisionRecord>(m, "Decision", "One decision of the shipped controller.")
       .def_property_readonly(
@@ -274,8 +281,9 @@ void bind_run(py::module_& m) {
                  ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
                  noise_sigma_grey, blur_sigma_px);
            }),
-           py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "",
-           py::arg("drag") = "eq8", py::arg("object_physics") = std::vector<std::string>{},
+           py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr,
+           py::arg("air") = "cfd", py::arg("drag") = "physical",
+           py::arg("object_physics") = std::vector<std::string>{},
            py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
            py::arg("table") = "", py::arg("models") = std::vector<std::string>{},
            py::arg("vision") = false, py::arg("calib") = "", py::arg("calib_dir") = "",

@@ -173,7 +173,7 @@ void bind_twin(py::module_& m) {
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("pan_deg") = 0.0,
            py::arg("tilt_deg") = 0.0, py::arg("jet_on") = true, py::arg("cfd") = nullptr,
-           py::arg("air") = "", py::arg("drag") = "eq8",
+           py::arg("air") = "cfd", py::arg("drag") = "physical",
            py::arg("object_physics") = std::vector<std::string>{},
            py::arg("effects") = std::vector<std::string>{}, py::arg("mjcf") = "",
            py::arg("air_formation") = py::none(),
@@ -184,9 +184,9 @@ void bind_twin(py::module_& m) {
            py::arg("field") = py::none(),
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
-           "flags: air 'model' (the analytical field) or 'cfd' (the jet's CFD: `cfd`, a "
-           "CfdField, or the shipped cases), default the CFD's when `cfd` is given; drag 'eq8' "
-           "or 'physical'; object_physics ['TYPE:key=value,...']; effects "
+           "flags, whose defaults it shares (the physical twin): air 'cfd' (the jet's CFD: `cfd`, "
+           "a CfdField, or the shipped cases) or 'model' (the analytical field); drag 'physical' "
+           "or 'eq8'; object_physics ['TYPE:key=value,...']; effects "
            "['NAME:key=value,...']; mjcf, a user's MJCF scene; air_formation, the wall jet's "
            "formation in the CFD's air (docs/twin.md): None on where the cases have it, True "
            "asks for it (--air-formation), False switches it off (--no-air-formation); "

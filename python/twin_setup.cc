@@ -28,8 +28,6 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
     params.cfd_air = setup.cfd ? setup.cfd : shipped_cfd();
   } else if (setup.air == "model") {
     if (setup.cfd) throw FieldError("cfd", "CFD cases need air 'cfd'");
-  } else if (setup.air.empty()) {
-    params.cfd_air = setup.cfd;
   } else {
     throw FieldError("air", "expected cfd or model, got '" + setup.air + "'");
   }

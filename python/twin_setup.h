@@ -18,12 +18,11 @@
 namespace airtwin::python {
 
 struct TwinSetup {
-  /// "model" (the analytical field), "cfd" (the jet's CFD), or "" (the CFD's when `cfd` is
-  /// given, else the model's).
-  std::string air;
+  /// "cfd" (the jet's CFD, the default as the CLI's) or "model" (the analytical field).
+  std::string air = "cfd";
   /// The CFD cases for air "cfd"; null: the shipped data/cfd, read once per process.
   std::shared_ptr<const CfdField> cfd;
-  std::string drag = "eq8";                 ///< eq8 | physical (sim/object_physics.h)
+  std::string drag = "physical";            ///< physical | eq8 (sim/object_physics.h)
   std::vector<std::string> object_physics;  ///< "TYPE:key=value,..." in order, after drag
   std::vector<std::string> effects;         ///< "NAME[:key=value,...]" (sim/effects.h)
   std::string mjcf;                         ///< a user's MJCF scene; "": built

@@ -57,6 +57,11 @@ void plan_with_model_files(const std::vector<std::string>& paths, const AirField
   }
 }
 
+std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag) {
+  if (cfd_air && physical_drag) return {AIRTWIN_MODEL_DATA_DIR "/twin/extended_model.json"};
+  return {};
+}
+
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects) {
   return controller_done && (kind == TaskKind::kPath || objects_in_zone == n_objects);
 }

@@ -97,6 +97,12 @@ void plan_with_extended_model(const ExtendedModel& model, const AirFieldModel& f
 void plan_with_model_files(const std::vector<std::string>& paths, const AirFieldModel& field,
                            ScenarioRunOptions* options);
 
+/// The model files the controller plans with unless its user names others: in the physical twin
+/// (the CFD's air and physical drag) the models fitted to it the way a rig's user fits theirs
+/// (models/data/twin/extended_model.json, scripts/fit_twin_models.sh; docs/twin.md); in any other
+/// twin none, i.e. the paper's eq. (8). The CLI and the Python module share this rule.
+std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag);
+
 /// A run succeeded when the controller saw its task done and, for a zone task (aggregation,
 /// sorting), the twin's truth agrees at that moment: all n_objects in their zones.
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects);

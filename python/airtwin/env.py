@@ -104,7 +104,8 @@ class AirJetEnv:
     'orientation' ((pan_deg, tilt_deg)). vision: observations from the detection pipeline on
     rendered frames, as `airtwin run --vision` (calib: a calib.yaml; without it the twin's camera
     is calibrated once, at the first reset, with that reset's seed). The twin's set-up as the
-    CLI's flags and Twin's: air ('model' | 'cfd'), cfd (a CfdField), drag ('eq8' | 'physical'),
+    CLI's flags and Twin's, with their defaults (the physical twin): air ('cfd' | 'model'), cfd
+    (a CfdField), drag ('physical' | 'eq8'),
     object_physics and effects (lists of 'NAME:key=value,...'), mjcf (a user's MJCF scene),
     air_formation (the wall jet's formation in the CFD's air: None on where the cases have it,
     True --air-formation, False --no-air-formation), air_formation_time_scale
@@ -112,8 +113,9 @@ class AirJetEnv:
     air_front_counter_flow (the new wall jet's front carried by the old air:
     --air-front-co-flow, --air-front-counter-flow);
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
-    controller's field model and the twin's analytical air), models (model.json or
-    extended_model.json files; controller_action() plans with them). Bad values raise
+    controller's field model and the twin's analytical air; default the one fitted to the CFD),
+    models (model.json or extended_model.json files; controller_action() plans with them;
+    default, as the CLI's, the models fitted to the physical twin in it, else eq. (8)). Bad values raise
     ValueError with the library's message.
 
     Observation (a dict; rows are the objects the controller knows, in id order; info['ids']
@@ -126,8 +128,8 @@ class AirJetEnv:
     metadata = {"render_modes": ["rgb_array"]}
 
     def __init__(self, task="line", seed=0, action_type="stagnation", vision=False, calib=None,
-                 vision_rate_hz=10.0, noise_sigma_grey=0.0, blur_sigma_px=0.0, air="",
-                 cfd=None, drag="eq8", object_physics=(), effects=(), mjcf="", table="",
+                 vision_rate_hz=10.0, noise_sigma_grey=0.0, blur_sigma_px=0.0, air="cfd",
+                 cfd=None, drag="physical", object_physics=(), effects=(), mjcf="", table="",
                  models=(), air_formation=None, air_formation_time_scale=0.5,
                  integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0):
         if action_type not in ("stagnation", "orientation"):

@@ -8,7 +8,7 @@ import pytest
 
 import airtwin
 from airtwin.env import AirJetEnv, Box, CemPolicy
-from conftest import MIRROR, SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
+from conftest import MIRROR, MIRROR_KW, SOURCE_DIR, assert_same_run, expect_cli_error, run_cli
 
 LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 OCTAGON = os.path.join(SOURCE_DIR, "scenes/octagon.yaml")
@@ -29,7 +29,7 @@ def test_the_controllers_actions_through_the_env_are_the_cli_run(tmp_path):
     out = tmp_path / "run"
     status, _, stderr = run_cli("run", LINE, "--seed", 2, *MIRROR, "--quiet", "--out", out)
     assert status == 0, stderr
-    env = AirJetEnv("line", seed=2)
+    env = AirJetEnv("line", seed=2, **MIRROR_KW)
     actions = []
 
     def controller(obs, info):
@@ -43,7 +43,7 @@ def test_the_controllers_actions_through_the_env_are_the_cli_run(tmp_path):
 
     # The same actions as plain numbers (the env's own aim, not the controller's records): the
     # objects go through the same states, frame by frame.
-    replay = AirJetEnv("line", seed=2)
+    replay = AirJetEnv("line", seed=2, **MIRROR_KW)
     replay.reset()
     for a in actions:
         replay.step(np.array(a))
@@ -55,7 +55,7 @@ def test_the_controllers_actions_through_the_env_are_the_cli_run(tmp_path):
 
 
 def test_reward_is_eq10_on_the_reached_positions():
-    env = AirJetEnv("octagon", seed=3)
+    env = AirJetEnv("octagon", seed=3, **MIRROR_KW)
     obs, info = env.reset()
     # s inside the group's near side: the objects lie in the wall jet that spreads from it.
     a = np.mean(obs["positions"], axis=0) + [-0.15, 0.0]
@@ -74,7 +74,7 @@ def test_reward_is_eq10_on_the_reached_positions():
 
 
 def test_cem_through_the_env_reaches_the_goal_and_a_random_policy_does_not():
-    env = AirJetEnv("line", seed=1)
+    env = AirJetEnv("line", seed=1, **MIRROR_KW)
     rewards, info, terminated = rollout(env, CemPolicy(env, seed=1), 1)
     assert terminated and info["success"]
     assert info["time_s"] < env.scenario.time_limit_s
@@ -87,7 +87,7 @@ def test_cem_through_the_env_reaches_the_goal_and_a_random_policy_does_not():
 
 def test_spaces_shapes_and_dtypes():
     for action_type in ("stagnation", "orientation"):
-        env = AirJetEnv("octagon", seed=1, action_type=action_type)
+        env = AirJetEnv("octagon", seed=1, action_type=action_type, **MIRROR_KW)
         obs, info = env.reset()
         assert env.observation_space.contains(obs)
         assert obs["positions"].shape == (4, 2) and obs["positions"].dtype == np.float64
@@ -114,7 +114,7 @@ def test_spaces_shapes_and_dtypes():
 
 def test_same_seed_same_bytes_and_other_seeds_differ():
     def bytes_of(seed, env_seed):
-        env = AirJetEnv("octagon", seed=env_seed)
+        env = AirJetEnv("octagon", seed=env_seed, **MIRROR_KW)
         rng = np.random.default_rng(seed)
         obs, _ = env.reset(seed=env_seed)
         out = [obs["positions"].tobytes()]
@@ -125,7 +125,7 @@ def test_same_seed_same_bytes_and_other_seeds_differ():
     assert bytes_of(1, 7) == bytes_of(1, 7)
     assert bytes_of(1, 7) != bytes_of(1, 8)
     # reset() without a seed: the next seed; with the same seed again: the same start.
-    env = AirJetEnv("octagon", seed=7)
+    env = AirJetEnv("octagon", seed=7, **MIRROR_KW)
     first, _ = env.reset()
     env.step(env.action_space.sample(np.random.default_rng(0)))
     _, info = env.reset()
@@ -139,8 +139,8 @@ def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
     status, _, stderr = run_cli("scene", LINE, "--seed", 1, *MIRROR, "--out", tmp_path / "scene")
     assert status == 0, stderr
     mjcf = str(tmp_path / "scene/scene.xml")
-    built = airtwin.Twin(LINE, 1, 30.0, 20.0)
-    loaded = airtwin.Twin(LINE, 1, 30.0, 20.0, mjcf=mjcf)
+    built = airtwin.Twin(LINE, 1, 30.0, 20.0, **MIRROR_KW)
+    loaded = airtwin.Twin(LINE, 1, 30.0, 20.0, mjcf=mjcf, **MIRROR_KW)
     for _ in range(40):
         assert built.step(30.0, 20.0).tobytes() == loaded.step(30.0, 20.0).tobytes()
     # Physical drag and an effect move the tracer otherwise than eq. (8) in the model's air
@@ -149,7 +149,7 @@ def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
     for name, kwargs in (("eq8", {}), ("physical", {"drag": "physical"}),
                          ("slope", {"effects": ["floor_slope"]}),
                          ("mass", {"drag": "physical", "object_physics": ["tracer:mass_g=3"]})):
-        twin = airtwin.Twin(LINE, 1, 150.0, 20.0, **kwargs)
+        twin = airtwin.Twin(LINE, 1, 150.0, 20.0, **{**MIRROR_KW, **kwargs})
         for _ in range(40):
             states = twin.step(150.0, 20.0)
         ends[name] = states[0, :2]
@@ -160,7 +160,7 @@ def test_twin_set_up_options_change_the_physics_as_the_cli_flags_do(tmp_path):
     status, _, stderr = run_cli("run", LINE, "--seed", 1, "--air", "model", "--drag", "physical",
                                 "--effect", "floor_slope", "--quiet", "--out", out)
     assert status == 0, stderr
-    env = AirJetEnv("line", seed=1, drag="physical", effects=["floor_slope"])
+    env = AirJetEnv("line", seed=1, air="model", drag="physical", effects=["floor_slope"])
     rollout(env, lambda obs, info: env.controller_action(), 1)
     assert env.result().log_csv() == (out / "log.csv").read_text()
 
@@ -212,7 +212,7 @@ def test_bad_options_raise_value_error_with_the_librarys_message(tmp_path):
 def test_vision_observations_are_the_cli_vision_run(tmp_path):
     scenario = tmp_path / "octagon.yaml"
     scenario.write_text(open(OCTAGON).read().replace("time_limit_s: 450", "time_limit_s: 5"))
-    env = AirJetEnv(str(scenario), seed=1, vision=True)
+    env = AirJetEnv(str(scenario), seed=1, vision=True, **MIRROR_KW)
     obs, info = env.reset()
     # Tracks of the detection pipeline, each within 5 mm of a tracer of the twin's truth.
     assert info["ids"] == ["v1", "v2", "v3", "v4"] and np.all(obs["visible"] == 1)

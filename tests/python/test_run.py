@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import (CFD_AIR_EQ8, MIRROR, SOURCE_DIR, assert_same_run, expect_cli_error,
-                      run_cli)
+from conftest import (CFD_AIR_EQ8, CFD_EQ8_KW, MIRROR, MIRROR_KW, SOURCE_DIR, assert_same_run,
+                      expect_cli_error, run_cli)
 
 LINE = os.path.join(SOURCE_DIR, "scenes/line.yaml")
 
@@ -16,7 +16,7 @@ def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
     out = tmp_path / "run"
     status, _, stderr = run_cli("run", LINE, "--seed", 2, *MIRROR, "--quiet", "--out", out)
     assert status == 0, stderr
-    result = airtwin.run_scenario(LINE, 2)
+    result = airtwin.run_scenario(LINE, 2, **MIRROR_KW)
     assert result.success and result.scenario == "line" and result.seed == 2
 
     # The same run: every frame, command and decision (decision_ms, a wall-clock time, aside).
@@ -42,17 +42,35 @@ def test_a_run_through_the_module_equals_the_cli_run(tmp_path):
         result.trajectory("t9")
 
 
+def test_the_defaults_are_the_clis_the_physical_twin(tmp_path):
+    """With no set-up both front ends run the physical twin (the CFD's air, physical drag), the
+    controller planning with the field model fitted to the CFD and the models fitted to the
+    twin (docs/twin.md): the same run to the byte, and another than the mirror's."""
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--quiet", "--out", out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(str(scenario), 1)
+    assert result.log_csv() == (out / "log.csv").read_text()
+    assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
+    models = os.path.join(SOURCE_DIR, "models/data/twin/extended_model.json")
+    assert result.log_csv() == airtwin.run_scenario(str(scenario), 1, air="cfd", drag="physical",
+                                                    models=[models]).log_csv()
+    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1, **MIRROR_KW).log_csv()
+
+
 def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
     out = tmp_path / "run"
     status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8, "--quiet", "--out", out)
     assert status == 0, stderr
-    result = airtwin.run_scenario(str(scenario), 1, cfd=airtwin.CfdField.read_dir())
+    result = airtwin.run_scenario(str(scenario), 1, cfd=airtwin.CfdField.read_dir(), **CFD_EQ8_KW)
     assert result.log_csv() == (out / "log.csv").read_text()
     assert result.nozzle_csv() == (out / "nozzle.csv").read_text()
     # Another air than the model's: the same run there goes elsewhere.
-    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1).log_csv()
+    assert result.log_csv() != airtwin.run_scenario(str(scenario), 1, **MIRROR_KW).log_csv()
 
 
 def test_a_run_with_and_without_the_air_formation_equals_the_cli_run(tmp_path):
@@ -60,14 +78,14 @@ def test_a_run_with_and_without_the_air_formation_equals_the_cli_run(tmp_path):
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
     cfd = airtwin.CfdField.read_dir()
     # The formation is on by default in the CFD's air; asking for it changes nothing.
-    formed = airtwin.run_scenario(str(scenario), 1, cfd=cfd)
-    assert formed.log_csv() == airtwin.run_scenario(str(scenario), 1, cfd=cfd,
+    formed = airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW)
+    assert formed.log_csv() == airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW,
                                                     air_formation=True).log_csv()
     out = tmp_path / "run"
     status, _, stderr = run_cli("run", scenario, "--seed", 1, *CFD_AIR_EQ8,
                                 "--no-air-formation", "--quiet", "--out", out)
     assert status == 0, stderr
-    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=False)
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_formation=False)
     assert result.log_csv() == (out / "log.csv").read_text()
     # The formation changes the air after every re-aim: the same run with it goes elsewhere.
     assert result.log_csv() != formed.log_csv()
@@ -88,21 +106,21 @@ def test_the_integrator_and_the_formation_time_scale_equal_the_cli_run(tmp_path)
                                 "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir()
-    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=0.25,
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_formation_time_scale=0.25,
                                   integrator="implicit")
     assert result.log_csv() == (out / "log.csv").read_text()
     # Each changes the run: the same without either goes elsewhere.
     assert result.log_csv() != airtwin.run_scenario(
-        str(scenario), 1, cfd=cfd, integrator="implicit").log_csv()
+        str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, integrator="implicit").log_csv()
     assert result.log_csv() != airtwin.run_scenario(
-        str(scenario), 1, cfd=cfd, air_formation_time_scale=0.25).log_csv()
+        str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_formation_time_scale=0.25).log_csv()
     with pytest.raises(ValueError, match="integrator: expected euler or implicit, got 'rk4'"):
         airtwin.run_scenario(str(scenario), 1, integrator="rk4")
     with pytest.raises(ValueError, match="air_formation_time_scale"):
-        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation=False,
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_formation=False,
                              air_formation_time_scale=0.25)
     with pytest.raises(ValueError, match="formation_time_scale"):
-        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_formation_time_scale=-1.0)
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_formation_time_scale=-1.0)
 
 
 def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
@@ -115,11 +133,11 @@ def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
                                 "--air-front-co-flow", 0, "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir()
-    still = airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_front_co_flow=0.0)
+    still = airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_front_co_flow=0.0)
     assert still.log_csv() == (out / "log.csv").read_text()
-    assert still.log_csv() != airtwin.run_scenario(str(scenario), 1, cfd=cfd).log_csv()
+    assert still.log_csv() != airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW).log_csv()
     with pytest.raises(ValueError, match="air_front_counter_flow: expected \\[0, 2\\]"):
-        airtwin.run_scenario(str(scenario), 1, cfd=cfd, air_front_counter_flow=3.0)
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, **CFD_EQ8_KW, air_front_counter_flow=3.0)
     with pytest.raises(ValueError, match="air_front_co_flow: the carried front needs the CFD"):
         airtwin.run_scenario(str(scenario), 1, air="model", air_front_co_flow=0.5)
     status, _, stderr = run_cli("run", scenario, "--seed", 1, *MIRROR, "--air-front-co-flow", 0.5,
@@ -149,10 +167,10 @@ def test_a_run_with_the_controllers_models_equals_the_cli_run(tmp_path):
     status, _, stderr = run_cli("run", LINE, "--seed", 1, *MIRROR, "--model", model, "--table",
                                 table, "--quiet", "--out", out)
     assert status == 0, stderr
-    result = airtwin.run_scenario(LINE, 1, models=[str(model)], table=table)
+    result = airtwin.run_scenario(LINE, 1, models=[str(model)], table=table, **MIRROR_KW)
     assert_same_run(result, out)
     # Other models, another run.
-    assert result.log_csv() != airtwin.run_scenario(LINE, 1).log_csv()
+    assert result.log_csv() != airtwin.run_scenario(LINE, 1, **MIRROR_KW).log_csv()
     # An unreadable model: the CLI's line.
     missing = tmp_path / "missing.json"
     expect_cli_error(lambda: airtwin.run_scenario(LINE, 1, models=[str(missing)]), "run", LINE,

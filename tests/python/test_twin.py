@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import airtwin
-from conftest import CONSTRUCTED, MIRROR, SOURCE_DIR, expect_cli_error, run_cli
+from conftest import CONSTRUCTED, MIRROR, MIRROR_KW, SOURCE_DIR, expect_cli_error, run_cli
 
 OCTAGON = os.path.join(SOURCE_DIR, "scenes/octagon.yaml")
 
@@ -60,7 +60,7 @@ def test_replaying_a_runs_commands_gives_its_trajectories(tmp_path):
         """Positions at every frame with `offset_deg` added to every angle sent."""
         twin = airtwin.Twin(scenario, 3, float(log[0]["pan_deg"]) + offset_deg,
                             float(log[0]["tilt_deg"]) + offset_deg,
-                            field=airtwin.Field.constructed())
+                            field=airtwin.Field.constructed(), **MIRROR_KW)
         assert twin.ids == ["t1", "t2", "t3", "t4"]
         pending = list(commands)
         positions = []
@@ -148,7 +148,7 @@ def test_render_shows_the_same_frames_as_the_cli(tmp_path, air):
                                 "--drag", "eq8", "--quiet", "--out", out)
     assert status == 0, stderr
     cfd = airtwin.CfdField.read_dir() if air == "cfd" else None
-    twin = airtwin.Twin(OCTAGON, 2, pan_deg, tilt_deg, cfd=cfd)
+    twin = airtwin.Twin(OCTAGON, 2, pan_deg, tilt_deg, cfd=cfd, air=air, drag="eq8")
     rows = read_csv(out / "truth.csv")
     for k in range(frames):
         twin.advance_to(k / 40)
@@ -157,7 +157,7 @@ def test_render_shows_the_same_frames_as_the_cli(tmp_path, air):
         for i, row in enumerate(truth):
             assert row["id"] == twin.ids[i]
             assert np.max(np.abs(states[i, :2] - (float(row["x"]), float(row["y"])))) <= 5e-7
-    start = airtwin.Twin(OCTAGON, 2, pan_deg, tilt_deg, cfd=cfd).states()
+    start = airtwin.Twin(OCTAGON, 2, pan_deg, tilt_deg, cfd=cfd, air=air, drag="eq8").states()
     assert np.max(np.abs(states[:, :2] - start[:, :2])) > 0.01  # the jet moved them
     frame = twin.render(frames - 1)
     assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
