@@ -28,6 +28,7 @@
 #include "common/units.h"
 #include "controller/task.h"
 #include "models/air_field.h"
+#include "models/field_model_file.h"
 #include "models/nozzle_log.h"
 #include "renders/calibration_target.h"
 #include "renders/camera_model.h"
@@ -68,6 +69,7 @@ struct RenderArgs {
   std::string out;
   bool quiet = false;
   AirFlags air;
+  std::string table;
 };
 
 void make_dir(const std::string& dir) {
@@ -213,7 +215,8 @@ void run_render(const RenderArgs& a) {
   const Scenario scenario = read_scenario(a.scenario);
 
   // The twin: the scenario's objects, the jet on and settled at the given orientation.
-  const AirFieldModel field = AirFieldModel::fitted_to_cfd();
+  if (!a.table.empty() && a.air.air != "model") throw UsageError("--table needs --air model");
+  const AirFieldModel field = field_model_or_default(a.table);
   TwinParameters params;
   apply_air_flags(a.air, &params);
   const NozzleOrientation orientation{deg_to_rad(a.pan_deg), deg_to_rad(a.tilt_deg)};
@@ -362,6 +365,11 @@ void add_render_command(CLI::App& app) {
       ->required();
   sub->add_option("--frames", args->frames, "Camera frames to render (>= 1)")->required();
   add_air_flags(sub, args->air);
+  sub->add_option(
+      "--table", args->table,
+      std::string("With --air model: the twin's air model (a coefficient table CSV or a\n"
+                  "field-model JSON); ") +
+          kDefaultFieldModelHelp);
   sub->add_option("--seed", args->seed,
                   "Seed of the twin (headings, cotton shapes, turbulence), "
                   "the sensor noise and the calibration views")

@@ -157,6 +157,27 @@ TEST(RenderCli, BadScenarioIsOneLineNamingTheKey) {
   EXPECT_NE(missing.err.find("none.yaml"), std::string::npos) << missing.err;
 }
 
+TEST(RenderCli, TheModelAirIsTheTablesWhenOneIsNamed) {
+  // In the model's air the objects follow eqs. (1)-(3) with --table's model: the constructed
+  // table's air moves them otherwise than the default model's, and the same table twice gives
+  // the same truth.
+  const std::string d = scratch_dir("render_table");
+  const std::string quick = "render " + kScenes +
+                            "octagon.yaml --frames 40 --pan 0 --tilt 8 --seed 2 "
+                            "--calibration-views 0 --air model --drag eq8 --quiet ";
+  const std::string table = " --table " + testing::constructed_table();
+  ASSERT_EQ(run_airtwin(quick + "--out " + d + "/default").exit_code, 0);
+  ASSERT_EQ(run_airtwin(quick + table + " --out " + d + "/a").exit_code, 0);
+  ASSERT_EQ(run_airtwin(quick + table + " --out " + d + "/b").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/a/truth.csv"), read_text_file(d + "/b/truth.csv"));
+  EXPECT_NE(read_text_file(d + "/a/truth.csv"), read_text_file(d + "/default/truth.csv"));
+  // A missing table: one line naming it.
+  const auto r = run_airtwin(quick + "--table " + d + "/none.csv --out " + d + "/c");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("none.csv"), std::string::npos) << r.err;
+}
+
 TEST(RenderCli, BadFlagsAreUsageErrors) {
   const std::string scenario = kScenes + "line.yaml";
   for (const auto& [flags, fragment] :
@@ -165,6 +186,7 @@ TEST(RenderCli, BadFlagsAreUsageErrors) {
                                                         {"--frames 3 --tilt 75", "--tilt"},
                                                         {"--frames 3 --pan 200", "--pan"},
                                                         {"--frames 3 --stride 0", "--stride"},
+                                                        {"--frames 3 --table t.csv", "--table"},
                                                         {"", "--frames"}}) {
     const auto r = run_airtwin("render " + scenario + " " + flags + " --out /tmp/x");
     EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.err;
