@@ -64,8 +64,8 @@ void add_aim_command(CLI::App& app) {
   sub->add_option("--max-tilt", args->max_tilt_deg, "Largest tilt the nozzle may take, degrees")
       ->capture_default_str();
   sub->add_option("--table", args->table,
-                  std::string("Field-model JSON whose eq. (2) a1, a2 place s (a table CSV: the "
-                              "paper's 0.1, 2.33); ") +
+                  std::string("Field-model JSON whose eq. (2) a1, a2 place s (a table CSV:\n"
+                              "the paper's 0.1, 2.33); ") +
                       kDefaultFieldModelHelp);
   sub->callback([args] { run_aim(*args); });
 }

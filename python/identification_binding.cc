@@ -155,7 +155,8 @@ void bind_identification(py::module_& m) {
         "Identifies eq. (6)'s model from trajectories of one object type, as `airtwin identify "
         "DATA.csv --object T`: a list of dicts, each t_s (K, s), positions (K x 2, m) and "
         "commands_deg (K x 2: the nozzle's pan and tilt in force, deg), optionally id and "
-        "group; the air speed from `field` (a Field; default the built-in table). ValueError "
+        "group; the air speed from `field` (a Field; default Field.default(), fitted to the CFD). "
+        "ValueError "
         "for bad input.");
 }
 
