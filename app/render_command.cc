@@ -204,6 +204,7 @@ void run_render(const RenderArgs& a) {
     throw UsageError("--frames: expected a frame count >= 1, got " + std::to_string(a.frames));
   }
   const NoiseLevel noise = parse_noise(a.noise);
+  if (!a.table.empty() && a.air.air != "model") throw UsageError("--table needs --air model");
   require_range(a.pan_deg, -180, 180, "--pan", "a pan angle in [-180, 180] deg");
   require_range(a.tilt_deg, 0, 60, "--tilt", "a tilt angle in [0, 60] deg");
   if (a.stride < 1)
@@ -215,7 +216,6 @@ void run_render(const RenderArgs& a) {
   const Scenario scenario = read_scenario(a.scenario);
 
   // The twin: the scenario's objects, the jet on and settled at the given orientation.
-  if (!a.table.empty() && a.air.air != "model") throw UsageError("--table needs --air model");
   const AirFieldModel field = field_model_or_default(a.table);
   TwinParameters params;
   apply_air_flags(a.air, &params);
