@@ -40,10 +40,13 @@ constexpr long kMaxGridPoints = 25'000'000;
 
 void run_field(const FieldArgs& a) {
   require_range(a.pan_deg, -360, 360, "--pan", "a pan angle in [-360, 360] deg");
+  // The range every field model can serve: below the fold of eq. (2) with the paper's a1, a2
+  // (64.4 deg), the lowest of the shipped models' folds (the CFD-fitted one folds at 88.7 deg).
   const double fold_deg = rad_to_deg(fold_tilt_rad(NozzleGeometry{}));
   if (!(a.tilt_deg >= 0 && a.tilt_deg < fold_deg)) {
     throw UsageError("--tilt: expected a tilt in [0, " + std::to_string(fold_deg) +
-                     ") deg (eq. (2) folds back beyond it), got " + std::to_string(a.tilt_deg));
+                     ") deg (eq. (2) with the paper's a1, a2 folds back beyond it), got " +
+                     std::to_string(a.tilt_deg));
   }
   require_range(a.extent_m, 1e-3, 100, "--extent", "a grid side in (0, 100] m");
   require_range(a.step_m, 1e-4, a.extent_m, "--step", "a grid step in [1e-4 m, extent]");
