@@ -56,7 +56,10 @@ void CemParameters::validate(const std::string& source) const {
   if (scan_step_m > 0.0 && scan_step_m < 0.01) {
     throw InputError(source + ": controller.scan_step_m must be at least 0.01 m (or 0: no scan)");
   }
-  if (predict_transition) transition.validate();
+  if (!(std::isfinite(sweep_clearance_m) && sweep_clearance_m >= 0.0)) {
+    throw InputError(source + ": controller.sweep_clearance_m must be a number >= 0");
+  }
+  if (predict_transition || sweep_clearance_m > 0.0) transition.validate();
 }
 
 CemPlanner::CemPlanner(const AirFieldModel& model, const CemParameters& params,
@@ -258,6 +261,39 @@ struct Predictors {
   const ExtendedPredictor* extended_predictor = nullptr;
 };
 
+// Sweep clearance (see cem_planner.h): whether s comes within `clearance` of an object while the
+// servos turn from `from` to `to`. `offset` is added to the servos' orientation to get the one the
+// air follows (an extended model's nozzle_offset; zero otherwise).
+constexpr double kSweepCheckStep = 0.01;  // s; s moves at most ~11 cm in it (7 rad/s at 1.65 m)
+bool sweep_passes_objects(const NozzleGeometry& g, const NozzleResponseParameters& servos,
+                          const NozzleOrientation& from, const NozzleOrientation& to,
+                          const NozzleOrientation& offset, std::span<const Eigen::Vector2d> p_W,
+                          double clearance) {
+  const ServoMove pan(from.pan_rad, to.pan_rad, servos.max_speed_radps,
+                      servos.max_acceleration_radps2);
+  const ServoMove tilt(from.tilt_rad, to.tilt_rad, servos.max_speed_radps,
+                       servos.max_acceleration_radps2);
+  const double duration = std::max(pan.duration_s(), tilt.duration_s());
+  auto s_at = [&](double t) {
+    const NozzleOrientation o{pan.angle(t) + offset.pan_rad,
+                              std::max(0.0, tilt.angle(t) + offset.tilt_rad)};
+    return stagnation_point(g, o);
+  };
+  Eigen::Vector2d a = s_at(0.0);
+  const int pieces = static_cast<int>(std::ceil(duration / kSweepCheckStep));
+  for (int k = 1; k <= pieces; ++k) {
+    const Eigen::Vector2d b = s_at(std::min(duration, k * kSweepCheckStep));
+    const Eigen::Vector2d ab = b - a;
+    const double len2 = ab.squaredNorm();
+    for (const Eigen::Vector2d& p : p_W) {
+      const double u = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      if ((a + u * ab - p).norm() < clearance) return true;
+    }
+    a = b;
+  }
+  return false;
+}
+
 // eq. (10)'s penalty: s not finite, an object starting within delta_min of s (where motion is
 // most stochastic), or a stagnation point the nozzle cannot produce (no better than one too close
 // to an object). Otherwise the orientation that puts s there.
@@ -288,11 +324,22 @@ double evaluate(const AirFieldModel& model, const Predictors& predictors,
     const double tilt_max = model.geometry().tilt_max_rad;
     if (!compensation_reachable(*aim, ext, tilt_max)) return params.penalty;
     const NozzleOrientation command = compensated_command(*aim, ext, tilt_max);
+    if (params.sweep_clearance_m > 0.0 && pr.nozzle_now &&
+        sweep_passes_objects(model.geometry(), predictors.extended->response, *pr.nozzle_now,
+                             command, {ext.pan_offset_rad, ext.tilt_offset_rad}, pr.positions_W,
+                             params.sweep_clearance_m)) {
+      return params.penalty;
+    }
     if (orientation != nullptr) *orientation = command;
     predict_extended(*predictors.extended, *predictors.extended_predictor, params, pr, command,
                      scratch);
     *feasible = true;
     return end_cost(pr, scratch.end_W);
+  }
+  if (params.sweep_clearance_m > 0.0 && pr.nozzle_now &&
+      sweep_passes_objects(model.geometry(), params.transition, *pr.nozzle_now, *aim, {},
+                           pr.positions_W, params.sweep_clearance_m)) {
+    return params.penalty;
   }
   if (orientation != nullptr) *orientation = *aim;
   if (params.predict_transition && pr.nozzle_now) {
@@ -370,9 +417,21 @@ double CemPlanner::outcome_cost(const PlanningProblem& problem, const Eigen::Vec
 
 PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) const {
   check_problem(problem);
+  PlanResult result = plan_with(params_, problem, rng);
+  if (params_.sweep_clearance_m > 0.0 && problem.nozzle_now && result.cost >= params_.penalty) {
+    // The clearance blocks every candidate (see cem_planner.h): the paper's decision.
+    CemParameters paper = params_;
+    paper.sweep_clearance_m = 0.0;
+    result = plan_with(paper, problem, rng);
+    result.sweep_blocked = true;
+  }
+  return result;
+}
+
+PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& problem,
+                                 RandomStream& rng) const {
   const Predictors preds = predictors_of(predictor_, extended_, extended_predictor_);
   const size_t m = problem.positions_W.size();
-  const CemParameters& p = params_;
   const int n = p.samples;
   const int n_elite = p.elite;
   Scratch scratch;

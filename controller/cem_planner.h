@@ -49,6 +49,20 @@
 // through the servos' sweep (their closed-form moves, ServoMove, in 100 ms pieces each holding
 // the orientation at its middle), then Delta T under the new one, all with the fast predictor.
 //
+// Sweep clearance (sweep_clearance_m, not in the paper): eq. (10)'s penalty J_P keeps s itself
+// delta_min from every object, because motion next to s is the most stochastic. A re-aim moves s
+// there too: the servos turn for up to ~1 s (never wrapping in pan: from pan -136 deg to 110 deg
+// the jet sweeps 246 deg over the floor), and an s that passes a group at a few cm scatters it,
+// a push the prediction does not see (a tracer in the passing jet slides 0.1-1 m in the twin, a
+// few cm in eq. 8). With a clearance the penalty also covers the path of s while the servos turn
+// from the command in force to the candidate's (their closed-form moves, ServoMove, in 10 ms pieces
+// taken as straight segments), at the objects' positions at the decision. The servos are
+// `transition`'s, or the extended model's. When it leaves no candidate (the pan must sweep past the
+// objects to reach any push: the servos never wrap), the decision is the paper's, the search run
+// again without it (PlanResult::sweep_blocked). Measured in the twin (docs/controller.md, "The
+// re-aim's sweep"): within delta_min of a passing s, half the objects end more than 10 cm from
+// their prediction.
+//
 // Extended planning (an extended model from `airtwin discrepancy`, models/extended_model.h): the
 // trajectories are predicted with models/extended_predictor.h instead, under the model's
 // extensions and the nozzle's response. The new command takes over from the previous one through
@@ -108,6 +122,10 @@ struct CemParameters {
   bool predict_transition = false;
   /// The servos and the transit that the transition follows (the rig's specification).
   NozzleResponseParameters transition;
+  /// J_P also for a re-aim whose stagnation point passes within this distance (m) of an object
+  /// while the servos turn (see above). 0, the paper's: the penalty on the new s only. Needs the
+  /// previous command (PlanningProblem::nozzle_now); without it only the new s is checked.
+  double sweep_clearance_m = 0.0;
 
   /// The paper's values for each search.
   static CemParameters line_defaults();
@@ -155,6 +173,8 @@ struct PlanResult {
   int evaluations = 0;      ///< candidates predicted (J_P ones not counted)
   bool converged = false;   ///< Sigma fell below Sigma*
   bool blind_scan = false;  ///< line search: no sample moved anything, the disc was scanned
+  /// Sweep clearance blocked every candidate; the decision is the paper's (see above).
+  bool sweep_blocked = false;
   /// Predicted end positions at s* (m), per object.
   std::vector<Eigen::Vector2d> predicted_end_W;
 };
@@ -186,6 +206,9 @@ class CemPlanner {
   const std::optional<ExtendedPlanning>& extended() const { return extended_; }
 
  private:
+  PlanResult plan_with(const CemParameters& p, const PlanningProblem& problem,
+                       RandomStream& rng) const;
+
   const AirFieldModel& model_;
   CemParameters params_;
   FastPredictor predictor_;

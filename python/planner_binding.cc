@@ -145,6 +145,9 @@ void bind_planner(py::module_& m) {
       .def_readonly("iterations", &PlanResult::iterations)
       .def_readonly("evaluations", &PlanResult::evaluations)
       .def_readonly("converged", &PlanResult::converged)
+      .def_readonly("sweep_blocked", &PlanResult::sweep_blocked,
+                    "With a sweep clearance: every push's re-aim passed an object, and the "
+                    "decision is the paper's.")
       .def_property_readonly(
           "predicted_end", [](const PlanResult& r) { return rows(r.predicted_end_W); },
           "N x 2: where eqs. (8)-(9) put the objects after Delta T under s* (m).");

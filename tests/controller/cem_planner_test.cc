@@ -551,6 +551,93 @@ TEST_F(CemPlannerTest, TransitionConvergesToTheContinuousSweep) {
   EXPECT_LT(transition_error, 0.2 * plain_error);
 }
 
+// The closest s comes to `p` while the servos turn from `from` to `to`, by a second
+// implementation: the servos stepped at 0.1 ms (NozzleTimeline) instead of their closed-form
+// moves, every step's s.
+double closest_pass(const NozzleGeometry& g, const NozzleOrientation& from,
+                    const NozzleOrientation& to, const Eigen::Vector2d& p) {
+  const NozzleTimeline timeline(NozzleResponseParameters{}, {{-1.0, from}, {0.0, to}}, 3.0, 1e-4);
+  double closest = std::numeric_limits<double>::infinity();
+  for (double t = 0.0; t <= 3.0; t += 1e-4) {
+    closest = std::min(closest, (stagnation_point(g, timeline.actual(t)) - p).norm());
+  }
+  return closest;
+}
+
+// A re-aim from pan 140 deg to -95 deg turns the pan the long way, through 0 deg, where an
+// object lies off the sweep's path. The clearance penalises the candidate exactly when the path
+// comes closer than it (within 5 mm: the 10 ms pieces' chords and the stepped servos differ by
+// less); without the previous command, or with no clearance, only s itself counts.
+TEST_F(CemPlannerTest, SweepClearancePenalisesAReaimPassingAnObject) {
+  const auto at = [](double r, double deg) {
+    return Eigen::Vector2d(r * std::cos(deg_to_rad(deg)), r * std::sin(deg_to_rad(deg)));
+  };
+  const NozzleOrientation from = *aim_at_stagnation(model_.geometry(), at(0.5, 140.0)).orientation;
+  const Eigen::Vector2d s_to = at(0.25, -95.0);
+  const std::vector<Eigen::Vector2d> v(1, Eigen::Vector2d::Zero());
+  const std::vector<ObjectDynamics> xi(1, kTracerDynamics);
+  const std::vector<Eigen::Vector2d> r(1, Eigen::Vector2d::Zero());
+  const NozzleOrientation to = *aim_at_stagnation(model_.geometry(), s_to).orientation;
+  for (const double radius : {0.37, 0.42}) {
+    const std::vector<Eigen::Vector2d> p = {at(radius, 10.0)};
+    const double pass = closest_pass(model_.geometry(), from, to, p[0]);
+    ASSERT_GT(pass, 0.10);  // the paper's delta_min alone lets it through
+    ASSERT_LT(pass, 0.30);
+    PlanningProblem pr;
+    pr.positions_W = p;
+    pr.velocities_W = v;
+    pr.dynamics = xi;
+    pr.references_W = r;
+    CemParameters params = CemParameters::plane_defaults();
+    const double unpenalised = CemPlanner(model_, params).cost(pr, s_to);
+    EXPECT_LT(unpenalised, params.penalty);
+    params.sweep_clearance_m = pass + 0.005;
+    EXPECT_EQ(CemPlanner(model_, params).cost(pr, s_to), unpenalised);  // no previous command
+    pr.nozzle_now = from;
+    EXPECT_EQ(CemPlanner(model_, params).cost(pr, s_to), params.penalty) << "pass " << pass;
+    params.sweep_clearance_m = pass - 0.005;
+    EXPECT_LT(CemPlanner(model_, params).cost(pr, s_to), params.penalty) << "pass " << pass;
+  }
+}
+
+// Every push the line search can choose lies on the ray from the object straight away from its
+// reference (+y: pan 90 deg; s 50 +- 14 cm from the object), and the pan turns there from -160
+// deg through -90 deg, where the object lies: s passes it at 15 cm or less, within the 18 cm
+// clearance. Every candidate blocked, the decision is the paper's: on the ray, its sweep passing
+// the object, and so marked.
+TEST_F(CemPlannerTest, SweepClearanceBlockingEveryPushLeavesThePapersDecision) {
+  const std::vector<Eigen::Vector2d> p = {{0.0, -0.25}};
+  const std::vector<Eigen::Vector2d> v(1, Eigen::Vector2d::Zero());
+  const std::vector<ObjectDynamics> xi(1, kTracerDynamics);
+  const std::vector<Eigen::Vector2d> r = {{0.0, -0.5}};
+  PlanningProblem pr;
+  pr.positions_W = p;
+  pr.velocities_W = v;
+  pr.dynamics = xi;
+  pr.references_W = r;
+  pr.nozzle_now = *aim_at_stagnation(model_.geometry(), Eigen::Vector2d(-0.38, -0.14)).orientation;
+  pr.pan_hint_rad = pr.nozzle_now->pan_rad;
+  CemParameters params = CemParameters::line_defaults();
+  params.mean0_m = 0.5;
+  RandomStream paper_rng(3, RandomPurpose::kController, 0);
+  const PlanResult paper = CemPlanner(model_, params).plan(pr, paper_rng);
+  EXPECT_FALSE(paper.sweep_blocked);
+
+  params.sweep_clearance_m = 0.18;
+  const CemPlanner planner(model_, params);
+  RandomStream rng(3, RandomPurpose::kController, 0);
+  const PlanResult blocked = planner.plan(pr, rng);
+  EXPECT_TRUE(blocked.sweep_blocked);
+  EXPECT_LT(blocked.cost, params.penalty);
+  EXPECT_NEAR(blocked.orientation.pan_rad, kPi / 2.0, 1e-9);
+  EXPECT_NEAR(blocked.stagnation_W.x(), 0.0, 1e-9);
+  EXPECT_LT(closest_pass(model_.geometry(), *pr.nozzle_now, blocked.orientation, p[0]), 0.18);
+  // Its cost is the paper's eq. (10) at its s, which the clearance would penalise.
+  params.sweep_clearance_m = 0.0;
+  EXPECT_EQ(blocked.cost, CemPlanner(model_, params).cost(pr, blocked.stagnation_W));
+  EXPECT_EQ(planner.cost(pr, blocked.stagnation_W), params.penalty);
+}
+
 TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {
   const CemParameters line = CemParameters::line_defaults();
   EXPECT_EQ(line.samples, 25);

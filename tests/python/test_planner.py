@@ -88,6 +88,56 @@ def test_plane_plan_returns_the_cost_of_its_point():
     assert plan.predicted_end.shape == (4, 2)
 
 
+def servo_angle(start, end, t, speed=7.0, accel=30.0):
+    """The servo's rest-to-rest move (rad) at time t: accelerate, cruise at the speed limit, brake."""
+    d = abs(end - start)
+    sign = 1.0 if end >= start else -1.0
+    ramp = min(np.sqrt(d / accel), speed / accel)
+    cruise = (d - accel * ramp**2) / (accel * ramp) if d > 0 else 0.0
+    total = 2 * ramp + cruise
+    if t >= total:
+        return end
+    if t < ramp:
+        return start + sign * 0.5 * accel * t**2
+    if t < ramp + cruise:
+        return start + sign * (0.5 * accel * ramp**2 + accel * ramp * (t - ramp))
+    return end - sign * 0.5 * accel * (total - t) ** 2
+
+
+def closest_pass(from_deg, to_deg, p):
+    """How close s comes to p while the servos turn from one (pan, tilt) to another, every ms."""
+    a, b = np.radians(from_deg), np.radians(to_deg)
+    closest = np.inf
+    for t in np.arange(0.0, 2.0, 1e-3):
+        o = np.degrees([servo_angle(a[0], b[0], t), servo_angle(a[1], b[1], t)])
+        closest = min(closest, np.hypot(*(np.array(airtwin.stagnation_point(*o)) - p)))
+    return closest
+
+
+@pytest.mark.parametrize("radius", [0.45, 0.5])
+def test_a_reaim_passing_an_object_within_the_sweep_clearance_costs_the_penalty(tmp_path, radius):
+    """controller.sweep_clearance_m: from pan 140 deg to -95 deg the pan turns the long way, through
+    10 deg, where the tracer lies off the path s takes; the candidate costs J_P exactly when that
+    path comes within the clearance (5 mm: the planner's 10 ms chords against 1 ms points here)."""
+    text = "".join(line for line in open(LINE_FILE) if "sweep_clearance_m" not in line)
+    p = radius * np.array([np.cos(np.radians(10.0)), np.sin(np.radians(10.0))])
+    s_from = 0.5 * np.array([np.cos(np.radians(140.0)), np.sin(np.radians(140.0))])
+    s_to = 0.25 * np.array([np.cos(np.radians(-95.0)), np.sin(np.radians(-95.0))])
+    now, to = airtwin.aim(*s_from), airtwin.aim(*s_to)
+    closest = closest_pass(now, to, p)
+    assert 0.10 < closest < 0.3
+    costs = {}
+    for clearance in (closest - 0.005, closest + 0.005):
+        scene = tmp_path / f"c{clearance:.4f}.yaml"
+        scene.write_text(text.replace("controller:\n", f"controller:\n  sweep_clearance_m: {clearance}\n", 1))
+        planner = airtwin.CemPlanner(FIELD, scenario=airtwin.Scenario.load(str(scene)))
+        args = (p[None, :], np.zeros((1, 2)), np.array(TRACER)[None, :], tuple(s_to))
+        costs[clearance] = planner.cost(*args, nozzle_now_deg=now)[0]
+        assert planner.cost(*args)[0] < planner.penalty  # no previous command: s alone counts
+    assert costs[closest - 0.005] < 1000.0
+    assert costs[closest + 0.005] == 1000.0
+
+
 def test_bad_problems_raise_value_error():
     planner = airtwin.CemPlanner(FIELD)
     positions = OCTAGON.positions

@@ -284,6 +284,11 @@ TEST(ScenarioDefaults, SortingStagesAreAutoNoneOrAList) {
   EXPECT_TRUE(parse_scenario(std::string(kSortingTask) + "controller: {predict_transition: true}\n",
                              "s.yaml")
                   .controller.predict_transition);
+  EXPECT_DOUBLE_EQ(scanned.sweep_clearance_m, 0.0);
+  EXPECT_DOUBLE_EQ(
+      parse_scenario(std::string(kPathTask) + "controller: {sweep_clearance_m: 0.15}\n", "s.yaml")
+          .controller.sweep_clearance_m,
+      0.15);
 }
 
 TEST(ScenarioDefaults, KeysOverrideTheDefaultsOfTheSearchInForce) {
@@ -459,6 +464,8 @@ TEST(ScenarioErrors, SortingStagesAndScanNameTheKey) {
                "controller.scan_step_m", "at least 0.01 m");
   expect_error(std::string(kSortingTask) + "controller: {predict_transition: maybe}\n", 10,
                "controller.predict_transition", "true");
+  expect_error(std::string(kPathTask) + "controller: {sweep_clearance_m: -0.1}\n", 7,
+               "controller.sweep_clearance_m", "0");
 }
 
 TEST(ScenarioErrors, SyntaxErrorsAndUnreadableFilesAreOneLine) {
