@@ -15,6 +15,9 @@
 //   BM_CemDecision/octagon, and */extended: the same decision planned with an extended model
 //     (a nozzle offset of (8, 4) deg and a 0.3 s response delay: the extended predictor at 2 ms
 //     steps, the nozzle turning from a previous command), against the fast path in the same run.
+// The files' sweep clearance (controller/cem_planner.h) is checked wherever a previous command is
+// given (the sorting's and the */extended decisions); sorting_no_clearance and
+// aggregation_extended_no_clearance are those decisions without it, in the same run.
 
 #include <benchmark/benchmark.h>
 
@@ -31,9 +34,10 @@ namespace airtwin {
 namespace {
 
 void BM_CemDecision(benchmark::State& state, const std::string& name, bool extended,
-                    bool no_scan = false, bool no_transition = false) {
+                    bool no_scan = false, bool no_transition = false, bool no_clearance = false) {
   Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   if (no_scan) sc.controller.scan_step_m = 0.0;
+  if (no_clearance) sc.controller.sweep_clearance_m = 0.0;
   if (no_transition) sc.controller.predict_transition = false;
   const AirFieldModel model = AirFieldModel::with_constructed_table();
   std::optional<ExtendedPlanning> planning;
@@ -92,11 +96,17 @@ BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_scan, std::string("sorting"), false
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_transition, std::string("sorting"), false, false, true)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, sorting_no_clearance, std::string("sorting"), false, false, false,
+                  true)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, octagon, std::string("octagon"), false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, octagon_extended, std::string("octagon"), true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, aggregation_extended, std::string("aggregation"), true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, aggregation_extended_no_clearance, std::string("aggregation"),
+                  true, false, false, true)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -57,6 +57,10 @@ const std::string& line_with_wide_start() {
     const size_t at = text.find(paper);
     if (at == std::string::npos) throw std::runtime_error("scenes/line.yaml: no " + paper);
     text.replace(at, paper.size(), "  variance0_m2: 0.02\n  scan_step_m: 0.1\n");
+    const std::string clearance = "  sweep_clearance_m: 0.10\n";
+    const size_t c = text.find(clearance);
+    if (c == std::string::npos) throw std::runtime_error("scenes/line.yaml: no " + clearance);
+    text.replace(c, clearance.size(), "  sweep_clearance_m: 0\n");
     const std::string file = scratch_dir("line_with_wide_start") + "/line.yaml";
     std::ofstream(file, std::ios::binary) << text;
     return file;
