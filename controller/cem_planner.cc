@@ -264,7 +264,8 @@ struct Predictors {
 // Sweep clearance (see cem_planner.h): whether s comes within `clearance` of an object while the
 // servos turn from `from` to `to`. `offset` is added to the servos' orientation to get the one the
 // air follows (an extended model's nozzle_offset; zero otherwise).
-// s: s moves at most ~12 cm in it (7 rad/s at 1.65 m), its chord at most 1 mm off the arc.
+// The pieces' length (s): s moves at most ~12 cm in one (7 rad/s at 1.65 m), its chord at most
+// 1 mm off the arc.
 constexpr double kSweepCheckStep = 0.01;
 bool sweep_passes_objects(const NozzleGeometry& g, const NozzleResponseParameters& servos,
                           const NozzleOrientation& from, const NozzleOrientation& to,
@@ -424,7 +425,9 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
     CemParameters paper = params_;
     paper.sweep_clearance_m = 0.0;
     result = plan_with(paper, problem, rng);
-    result.sweep_blocked = true;
+    // Blocked only when the paper's search finds a push: with none (every s too near an object
+    // or out of reach) the clearance changed nothing.
+    result.sweep_blocked = result.cost < params_.penalty;
   }
   return result;
 }

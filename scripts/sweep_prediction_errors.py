@@ -83,6 +83,8 @@ def main():
     passing, other = defaultdict(list), []
     for decisions_file in files:
         base = decisions_file[: -len(".decisions.csv")]
+        if not os.path.isfile(base + ".plans.csv"):
+            sys.exit(f"{base}.plans.csv: missing beside {decisions_file}")
         decisions = list(csv.DictReader(open(decisions_file)))
         plans = defaultdict(dict)
         for row in csv.DictReader(open(base + ".plans.csv")):

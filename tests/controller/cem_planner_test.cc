@@ -636,6 +636,15 @@ TEST_F(CemPlannerTest, SweepClearanceBlockingEveryPushLeavesThePapersDecision) {
   params.sweep_clearance_m = 0.0;
   EXPECT_EQ(blocked.cost, CemPlanner(model_, params).cost(pr, blocked.stagnation_W));
   EXPECT_EQ(planner.cost(pr, blocked.stagnation_W), params.penalty);
+
+  // With no push the paper's search could take either (every s beyond the reachable disc), the
+  // clearance blocked nothing: the decision is infeasible and not marked.
+  params.sweep_clearance_m = 0.18;
+  params.mean0_m = 3.0;
+  RandomStream far_rng(3, RandomPurpose::kController, 0);
+  const PlanResult none = CemPlanner(model_, params).plan(pr, far_rng);
+  EXPECT_EQ(none.cost, params.penalty);
+  EXPECT_FALSE(none.sweep_blocked);
 }
 
 TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {
