@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "common/errors.h"
+#include "controller/task.h"
 
 namespace airtwin {
 
@@ -84,6 +85,8 @@ constexpr size_t kScanCoarseBest = 3;
 // A line search whose feasible samples' costs all lie within this (m) moved nothing it could
 // rank: 1 mm, a tenth of the paper's smallest path error (Table I: 0.67 cm).
 constexpr double kBlindSpread_m = 1e-3;
+// A blind line search's rescue may not predict the group spreading by more than this (m).
+constexpr double kSpreadTolerance_m = 1e-3;
 
 // Per-decision scratch: the predictor's output and the start states, reused over candidates.
 struct Scratch {
@@ -470,7 +473,13 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
   // The scan (see cem_planner.h): eq. (10) on a grid of stagnation points over the reachable
   // disc, coarse to fine or every point at the pitch; returns the cheapest feasible point and
   // its cost (infinite cost: none feasible).
-  auto scan = [&](bool coarse_first) -> std::pair<Eigen::Vector2d, double> {
+  // With `keep_spread`, a point whose predicted ends lie farther apart than the objects do now
+  // does not count (the blind line search's rescue, see cem_planner.h).
+  const double spread_now = max_pairwise_distance(problem.positions_W);
+  auto spreads = [&](bool keep_spread) {
+    return keep_spread && max_pairwise_distance(scratch.end_W) > spread_now + kSpreadTolerance_m;
+  };
+  auto scan = [&](bool coarse_first, bool keep_spread) -> std::pair<Eigen::Vector2d, double> {
     Eigen::Vector2d best = Eigen::Vector2d::Zero();
     // Coarse to fine: the grid of twice the pitch first, then the full pitch around its
     // kScanCoarseBest cheapest points (their 3 x 3 neighbourhoods). Points in a fixed order,
@@ -494,7 +503,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
       bool feasible = false;
       const double c = evaluate(model_, preds, plain, problem, s, scratch, nullptr, &feasible);
       result.evaluations += feasible ? 1 : 0;
-      if (feasible) ranked.emplace_back(c, s);
+      if (feasible && !spreads(keep_spread)) ranked.emplace_back(c, s);
     };
     // The coarse grid holds the origin (even indices); without it, every point at the pitch.
     const int stride = coarse_first ? 2 : 1;
@@ -523,7 +532,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
         bool feasible = false;
         c = evaluate(model_, preds, p, problem, s, scratch, nullptr, &feasible);
         result.evaluations += feasible ? 1 : 0;
-        if (!feasible) continue;
+        if (!feasible || spreads(keep_spread)) continue;
       }
       if (c < cheapest) {
         cheapest = c;
@@ -547,7 +556,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
     mu /= static_cast<double>(m);
     sigma = Eigen::Matrix2d::Identity() * p.variance0_m2;
     if (p.scan_step_m > 0.0) {
-      std::tie(scan_best, scan_cost) = scan(true);
+      std::tie(scan_best, scan_cost) = scan(true, false);
       if (scan_cost < std::numeric_limits<double>::infinity()) mu = scan_best;
     }
   }
@@ -618,7 +627,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
       !(highest_feasible - lowest_feasible >= kBlindSpread_m)) {
     // Every point at the pitch: where the model moves nothing from the ray, the pushes that do
     // are few and close to the objects, and a coarse grid's cheapest points are only its first.
-    std::tie(scan_best, scan_cost) = scan(false);
+    std::tie(scan_best, scan_cost) = scan(false, /*keep_spread=*/true);
     result.blind_scan = true;
   }
   // After a scan the decision is never worse than the scan's best point.

@@ -38,7 +38,10 @@
 //    the first draws and the mean a random walk. The scan, over every point at the pitch (a
 //    coarse grid's cheapest points would be only its first: the pushes that move such an
 //    object are few and near it), finds a push from another side, and the decision is the
-//    cheaper of the two.
+//    cheaper of the two. Such a rescue may not spread a group: a point whose predicted ends lie
+//    farther apart (largest pairwise distance) than the objects do now is passed over. Eq. (10)
+//    has no term for a group's cohesion, and the cheapest rescue often scattered the octagon's
+//    four tracers (docs/controller.md).
 //
 // Transition (predict_transition, not in the paper): eq. (10) is evaluated on the prediction of
 // the whole re-aim. The servos take up to ~1 s to turn (7 rad/s, 30 rad/s^2) and never wrap in
@@ -114,7 +117,8 @@ struct CemParameters {
   /// the search has converged.
   double converged_variance_m2 = 0.3e-4;
   /// Pitch (m) of the grid scan (see above); 0, the paper's choice: no scan. Plane search: the
-  /// scan sets mu0. Line search: the disc is scanned only when the search was blind.
+  /// scan sets mu0. Line search: the disc is scanned only when the search was blind, for a push
+  /// that does not spread the objects.
   double scan_step_m = 0.0;
   /// Predict the re-aim too (see above): the air keeps the previous orientation for the
   /// transit, then sweeps with the servos to the new one. false: the paper's model, the new

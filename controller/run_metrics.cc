@@ -19,11 +19,7 @@ void RunMetrics::add_frame(const std::vector<Eigen::Vector2d>& p_W,
       ++count_;
     }
   }
-  for (size_t a = 0; a < p_W.size(); ++a) {
-    for (size_t b = a + 1; b < p_W.size(); ++b) {
-      max_pairwise_m_ = std::max(max_pairwise_m_, (p_W[a] - p_W[b]).norm());
-    }
-  }
+  max_pairwise_m_ = std::max(max_pairwise_m_, max_pairwise_distance(p_W));
   last_in_zone_ = zones_.objects_in_zone(p_W, types);
 }
 

@@ -265,4 +265,14 @@ CostShaping TaskProgress::cost_shaping(const std::vector<Eigen::Vector2d>& p_W,
   return out;
 }
 
+double max_pairwise_distance(std::span<const Eigen::Vector2d> points) {
+  double widest = 0.0;
+  for (size_t a = 0; a < points.size(); ++a) {
+    for (size_t b = a + 1; b < points.size(); ++b) {
+      widest = std::max(widest, (points[a] - points[b]).norm());
+    }
+  }
+  return widest;
+}
+
 }  // namespace airtwin

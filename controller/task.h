@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -150,5 +151,9 @@ class TaskProgress {
   size_t reference_index_ = 0;
   std::optional<double> done_time_s_;
 };
+
+/// The largest distance (m) between two of the points: a group's span, by which the octagon's
+/// four tracers are judged (section V-C: at most 26.1 cm). 0 for fewer than two points.
+double max_pairwise_distance(std::span<const Eigen::Vector2d> points);
 
 }  // namespace airtwin

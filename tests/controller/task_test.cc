@@ -215,5 +215,15 @@ TEST(TaskSpec, ValidateNamesTheField) {
   EXPECT_THROW(s.validate("x.yaml"), InputError);
 }
 
+TEST(MaxPairwiseDistance, IsTheLongestSideOfTheGroup) {
+  // A 3-4-5 right triangle: the hypotenuse, whatever the order.
+  std::vector<Eigen::Vector2d> p = {{0.0, 0.0}, {0.3, 0.0}, {0.0, 0.4}};
+  EXPECT_DOUBLE_EQ(max_pairwise_distance(p), 0.5);
+  std::swap(p[0], p[2]);
+  EXPECT_DOUBLE_EQ(max_pairwise_distance(p), 0.5);
+  EXPECT_EQ(max_pairwise_distance(std::vector<Eigen::Vector2d>{{1.0, 2.0}}), 0.0);
+  EXPECT_EQ(max_pairwise_distance(std::vector<Eigen::Vector2d>{}), 0.0);
+}
+
 }  // namespace
 }  // namespace airtwin

@@ -83,12 +83,11 @@ TEST(ClosedLoopAcceptance, OctagonFourTracers) {
   EXPECT_LE(t.median_mean_error_m, 2.0 * 0.0565);
   EXPECT_LE(t.median_max_error_m, 2.0 * 0.2032);
   EXPECT_LE(t.median_time_s, 1.5 * 205.0);
-  // The group within 30 cm (the issue): 7 of seeds 1-10 in the physical twin with the sweep
-  // clearance (5 without; the worst 64.9 cm, seed 2): the acceptance tier holds that count less
-  // one, CI the worst spread.
-  if (n >= 10) {
-    EXPECT_GE(t.success_within_30cm, 6) << "worst pairwise " << t.worst_pairwise_m << " m";
-  }
+  // The group within 30 cm (the issue): 10 of seeds 1-10 and 28 of 1-30 in the physical twin
+  // since a blind search's rescue may not spread the group (7 of 10 before, 5 without the sweep
+  // clearance): every CI seed, 9 of 10 in the acceptance tier.
+  EXPECT_GE(t.success_within_30cm, required_successes(n))
+      << "worst pairwise " << t.worst_pairwise_m << " m";
   EXPECT_LE(t.worst_pairwise_m, 0.75);
 }
 
@@ -151,8 +150,9 @@ TEST(ClosedLoopAcceptance, SingleTracerPathsInTheMirrorTwin) {
 }
 
 // The octagon in the mirror twin keeps its group within 30 cm in every CI seed and 9 of 10 in
-// the acceptance tier (docs/controller.md): the physical twin's wider spread is the physics', not
-// the controller's.
+// the acceptance tier (docs/controller.md; 10 of 10 measured, the widest 16.7 cm). Without the
+// blind search's rescue two of ten stall there to the time limit: the model's own air upstream
+// of an oblique jet's s cannot start a tracer left beyond a corner.
 TEST(ClosedLoopAcceptance, OctagonInTheMirrorTwinKeepsTheGroupTogether) {
   const int n = seed_count();
   const Tally t = run_seeds("octagon", n, TwinKind::kMirror);

@@ -163,7 +163,10 @@ TEST(Scenario, OctagonTakesFourTracersCornerToCorner) {
     EXPECT_LT((o.p_W - s.task.path_W.front()).norm(), 0.05) << o.id;
   }
   EXPECT_NEAR(min_pairwise(s), 0.05, 0.005);
-  expect_same(s.controller, CemParameters::line_defaults());
+  // The paper's multi-object line search, with the floor scanned every 10 cm when it is blind.
+  CemParameters expected = CemParameters::line_defaults();
+  expected.scan_step_m = 0.1;
+  expect_same(s.controller, expected);
 }
 
 TEST(Scenario, AggregationScattersTwentyFiveTracersAroundTheZone) {
