@@ -284,9 +284,45 @@ bool sweep_passes_objects(const NozzleGeometry& g, const NozzleResponseParameter
                               std::max(0.0, tilt.angle(t) + offset.tilt_rad)};
     return stagnation_point(g, o);
   };
+  // How fast s can cross the floor (m/s), to skip the pieces it cannot bring near an object.
+  // s = R(rho) [cos pan, sin pan] with rho = h tan(tilt) and R = rho - a1 rho^a2 (eqs. 1-2), the
+  // tilt between its ends: |ds/dt| <= |R| |pan'| + |dR/drho| h / cos^2(tilt) |tilt'|, each factor
+  // at its largest over the move. Skipping changes no piece: those checked are the same chords.
+  const double tilt_hi = std::max(0.0, std::max(from.tilt_rad, to.tilt_rad) + offset.tilt_rad);
+  double pan_term = 0.0, tilt_term = 0.0;
+  const bool bounded = tilt_hi < 1.5;  // 86 deg: beyond, no useful bound
+  if (bounded) {
+    const double rho_hi = g.height_m * std::tan(tilt_hi);
+    const double cos_hi = std::cos(tilt_hi);
+    pan_term = pan.peak_speed() * (rho_hi + g.a1 * std::pow(rho_hi, g.a2));
+    tilt_term = tilt.peak_speed() * (1.0 + g.a1 * g.a2 * std::pow(rho_hi, g.a2 - 1.0)) *
+                g.height_m / (cos_hi * cos_hi);
+  }
+  auto nearest = [&](const Eigen::Vector2d& q) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector2d& p : p_W) d = std::min(d, (p - q).norm());
+    return d;
+  };
   Eigen::Vector2d a = s_at(0.0);
   const int pieces = static_cast<int>(std::ceil(duration / kSweepCheckStep));
-  for (int k = 1; k <= pieces; ++k) {
+  for (int k = 1; k <= pieces;) {
+    if (bounded) {
+      // Every chord ending by t_safe lies within v (t_safe - t) of a = s(t): none can come
+      // within the clearance of an object farther than that from a (a 1 % margin on v).
+      const double t = (k - 1) * kSweepCheckStep;
+      const double v = 1.01 * ((t < pan.duration_s() ? pan_term : 0.0) +
+                               (t < tilt.duration_s() ? tilt_term : 0.0));
+      const double room = nearest(a) - clearance;
+      if (room > 0.0 && v > 0.0) {
+        const int last_safe = static_cast<int>(std::floor((t + room / v) / kSweepCheckStep));
+        if (last_safe >= pieces) return false;
+        if (last_safe >= k) {
+          k = last_safe + 1;
+          a = s_at(std::min(duration, last_safe * kSweepCheckStep));
+          continue;
+        }
+      }
+    }
     const Eigen::Vector2d b = s_at(std::min(duration, k * kSweepCheckStep));
     const Eigen::Vector2d ab = b - a;
     const double len2 = ab.squaredNorm();
@@ -295,6 +331,7 @@ bool sweep_passes_objects(const NozzleGeometry& g, const NozzleResponseParameter
       if ((a + u * ab - p).norm() < clearance) return true;
     }
     a = b;
+    ++k;
   }
   return false;
 }

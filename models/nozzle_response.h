@@ -90,6 +90,8 @@ class ServoMove {
   double duration_s() const { return duration_; }
   /// The angle (rad) at time t_s: `from` until 0, `to` from duration_s() on.
   double angle(double t_s) const;
+  /// The fastest the axis turns during the move (rad/s); 0 when from == to.
+  double peak_speed() const { return peak_speed_; }
 
  private:
   double from_, to_, sign_, acceleration_;
