@@ -145,6 +145,9 @@ void bind_planner(py::module_& m) {
       .def_readonly("iterations", &PlanResult::iterations)
       .def_readonly("evaluations", &PlanResult::evaluations)
       .def_readonly("converged", &PlanResult::converged)
+      .def_readonly("blind_scan", &PlanResult::blind_scan,
+                    "Line search with a scan pitch: no sample moved anything, and the floor was "
+                    "scanned for a push that does not spread the objects.")
       .def_readonly("sweep_blocked", &PlanResult::sweep_blocked,
                     "With a sweep clearance: every push's re-aim passed an object, and the "
                     "decision is the paper's.")

@@ -112,18 +112,21 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
 std::string decisions_csv(const ScenarioRunResult& r) {
   std::string out =
       "t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,converged,sweep,"
-      "n_observed,decision_ms\n";
+      "rescue,n_observed,decision_ms\n";
   char line[512];
   for (const auto& d : r.loop.decisions) {
     // sweep: 1 when the sweep clearance blocked every push and the decision is the paper's
     // (controller/cem_planner.h), else 0.
+    // rescue: 1 when the line search was blind and the floor was scanned for a push that does
+    // not spread the objects (controller/cem_planner.h), else 0.
     const int sweep = d.plan.sweep_blocked ? 1 : 0;
+    const int rescue = d.plan.blind_scan ? 1 : 0;
     std::snprintf(line, sizeof line,
-                  "%.6f,%zu,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%d,%d,%.3f\n", d.t_s,
+                  "%.6f,%zu,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%d,%d,%d,%.3f\n", d.t_s,
                   d.reference_index, d.reference_W.x(), d.reference_W.y(), d.plan.stagnation_W.x(),
                   d.plan.stagnation_W.y(), rad_to_deg(d.plan.orientation.pan_rad),
                   rad_to_deg(d.plan.orientation.tilt_rad), d.plan.cost, d.plan.iterations,
-                  d.plan.converged ? 1 : 0, sweep, d.n_observed, d.decision_ms);
+                  d.plan.converged ? 1 : 0, sweep, rescue, d.n_observed, d.decision_ms);
     out += line;
   }
   return out;

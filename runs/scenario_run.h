@@ -120,7 +120,7 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
 std::string run_summary_json(const ScenarioRunResult& result, double time_limit_s);
 
 /// decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,
-/// converged,n_observed,decision_ms.
+/// converged,sweep,rescue,n_observed,decision_ms.
 std::string decisions_csv(const ScenarioRunResult& result);
 
 /// plans.csv: what each decision planned with and predicted, a row per object per decision:

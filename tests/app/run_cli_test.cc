@@ -107,11 +107,15 @@ TEST(RunCli, LineWritesSummaryLogAndDecisions) {
   EXPECT_EQ(nozzle.commands.front().t_s, truth.front().t_s);
   std::istringstream decisions(slurp(d + "/decisions.csv"));
   std::getline(decisions, row);
+  EXPECT_EQ(row,
+            "t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,converged,"
+            "sweep,rescue,n_observed,decision_ms");
   std::vector<double> decision_times;
   while (std::getline(decisions, row)) {
     std::vector<std::string> f;
     std::istringstream cells(row);
     for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    ASSERT_EQ(f.size(), 15u) << row;
     const double t = std::stod(f[0]);
     decision_times.push_back(t);
     const long i = nozzle.index_at(t);

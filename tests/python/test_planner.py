@@ -189,3 +189,25 @@ def test_the_nozzles_command_starts_the_predicted_re_aim():
     # From the far side, the sweep on the way moves the objects: another cost.
     far, _ = planner.cost(positions, references, xi, s, nozzle_now_deg=(pan_deg + 170.0, 40.0))
     assert abs(far - at_once) > 1e-4
+
+
+def test_a_blind_line_search_rescues_without_spreading_the_group():
+    # An octagon stall: one tracer 33 cm out beyond the corner the group waits at. The paper's
+    # line search moves nothing from its ray; the octagon's file scans the floor for the
+    # cheapest push whose predicted ends lie no farther apart than the objects do now.
+    positions = np.array([[0.1447, -0.6158], [0.0262, -0.3030], [0.0573, -0.2662],
+                          [0.0690, -0.2974]])
+    references = np.tile([0.0857, -0.2875], (4, 1))
+    xi = np.tile(TRACER, (4, 1))
+    stay = np.hypot(*(positions - references).T).sum()
+
+    def spread(q):
+        return max(np.hypot(*(a - b)) for a in q for b in q)
+
+    paper = airtwin.CemPlanner(FIELD).plan(positions, references, xi, seed=1)
+    assert not paper.blind_scan
+    assert paper.cost == pytest.approx(stay, abs=1e-3)
+    rescue = airtwin.CemPlanner(FIELD, scenario=OCTAGON).plan(positions, references, xi, seed=1)
+    assert rescue.blind_scan
+    assert rescue.cost < stay - 0.01
+    assert spread(rescue.predicted_end) <= spread(positions) + 1e-3
