@@ -319,7 +319,9 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
   std::optional<FrontHistory> front;
   std::vector<FeltField> airs;
   NozzleOrientation cached = field_orientation(ext, timeline, t0);
-  OrientedField field;
+  // Only the rays the objects need, not the orientation's 360 profiles: rebuilt at every step
+  // while the servos turn.
+  OrientedRays field;
   if (ext.transport_pace_s_per_m > 0.0) {
     front.emplace(*this, ext, timeline, t0, t_end_s, h);
     airs.reserve(objects.size());
@@ -327,7 +329,7 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
       airs.emplace_back(field_, front->felt(t0, starts[j].p_W));
     }
   } else {
-    field = field_.at(cached);
+    field = field_.rays_at(cached);
   }
   while (true) {
     if (front) {
@@ -340,7 +342,7 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
       const NozzleOrientation o = field_orientation(ext, timeline, t);
       if (o.pan_rad != cached.pan_rad || o.tilt_rad != cached.tilt_rad) {
         cached = o;
-        field = field_.at(o);
+        field = field_.rays_at(o);
         for (Mover& m : objects) m.field_changed();
       }
       for (size_t j = 0; j < objects.size(); ++j) {
