@@ -7,9 +7,17 @@ namespace airtwin {
 
 RunMetrics::RunMetrics(const TaskSpec& task) : task_(task), zones_(task) {}
 
-void RunMetrics::add_frame(const std::vector<Eigen::Vector2d>& p_W,
+void RunMetrics::add_frame(double t_s, const std::vector<Eigen::Vector2d>& p_W,
                            const std::vector<std::string>& types) {
   ++frames_;
+  bool moved = still_from_W_.size() != p_W.size();
+  for (size_t j = 0; j < p_W.size() && !moved; ++j) {
+    moved = (p_W[j] - still_from_W_[j]).norm() > kStillDistance_m;
+  }
+  if (moved) {
+    still_from_W_ = p_W;
+    still_since_s_ = t_s;
+  }
   if (task_.kind == TaskKind::kPath) {
     for (const auto& p : p_W) {
       const double e = distance_to_path(task_.path_W, p);

@@ -32,6 +32,7 @@ std::string failed_record_json(const RunKey& key, int n_objects, double time_lim
   j["decision_ms"] = {{"mean", 0.0}, {"max", 0.0}};
   j["end_time_s"] = 0.0;
   j["time_limit_s"] = time_limit_s;
+  j["still_since_s"] = nullptr;
   j["perception"] = perception;
   j["controller_done"] = false;
   j["objects_seen_at_end"] = 0;
@@ -98,6 +99,8 @@ RunRecord parse_record(const std::string& text, const std::string& source) {
     r.decision_ms_max = number(j.at("decision_ms"), "max");
     r.end_time_s = number(j, "end_time_s");
     r.time_limit_s = number(j, "time_limit_s");
+    // Optional: a batch resumed from records of an earlier airtwin has them without it.
+    if (j.contains("still_since_s")) r.still_since_s = optional_number(j, "still_since_s");
     key = "perception";
     r.perception = j.at("perception").get<std::string>();
     if (j.contains("vision")) {

@@ -28,8 +28,11 @@ struct RunRecord {
   int objects_in_zone = 0;
   int n_objects = 0;
   int64_t decisions = 0;
-  double end_time_s = 0.0;           ///< rig time when the loop stopped (s)
-  double time_limit_s = 0.0;         ///< the scenario's (s)
+  double end_time_s = 0.0;    ///< rig time when the loop stopped (s)
+  double time_limit_s = 0.0;  ///< the scenario's (s)
+  /// From this time (s) to end_time_s no object moved more than 1 cm (RunMetrics); unset for a
+  /// run whose twin failed, and in records written before the field existed.
+  std::optional<double> still_since_s;
   std::string perception = "truth";  ///< "truth" | "vision"
   /// --vision: the tracker's counters over the run (zero otherwise).
   int64_t vision_frames = 0, vision_detections = 0, vision_tracks = 0, vision_missed = 0,

@@ -13,6 +13,7 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/quantile.h"
+#include "controller/run_metrics.h"
 #include "plots/batch_plot.h"
 
 namespace airtwin {
@@ -167,6 +168,7 @@ std::string report_json(const BatchManifest& manifest, const std::vector<RunReco
     e["success_rate_ci95"] = {s.success_ci95_low, s.success_ci95_high};
     e["failed_seeds"] = s.failed_seeds;
     e["twin_failure_seeds"] = s.twin_failure_seeds;
+    e["stalled_seeds"] = s.stalled_seeds;
     e["completion_time_s"] = distribution_json(s.completion_time_s);
     e["path_error_mean_cm"] =
         s.path_error_mean_cm ? distribution_json(*s.path_error_mean_cm) : ordered_json(nullptr);
@@ -222,13 +224,18 @@ std::string report_md(const BatchManifest& manifest, const std::vector<RunRecord
       "largest value and its seed.\n\n";
 
   md +=
-      "## Success\n\n| scenario | runs | success | 95% interval (Wilson) | failed seeds |\n"
-      "|---|---|---|---|---|\n";
+      "## Success\n\n| scenario | runs | success | 95% interval (Wilson) | failed seeds | of "
+      "them stalled |\n|---|---|---|---|---|---|\n";
   for (const ScenarioStats& s : stats) {
-    md += format("| %s | %d | %.0f%% (%d/%d) | %.0f-%.0f%% | %s |\n", s.scenario.c_str(), s.runs,
-                 100.0 * s.success_rate, s.successes, s.runs, 100.0 * s.success_ci95_low,
-                 100.0 * s.success_ci95_high, seed_list(s.failed_seeds, 20).c_str());
+    md += format("| %s | %d | %.0f%% (%d/%d) | %.0f-%.0f%% | %s | %s |\n", s.scenario.c_str(),
+                 s.runs, 100.0 * s.success_rate, s.successes, s.runs, 100.0 * s.success_ci95_low,
+                 100.0 * s.success_ci95_high, seed_list(s.failed_seeds, 20).c_str(),
+                 seed_list(s.stalled_seeds, 20).c_str());
   }
+  md += format(
+      "\nStalled: a failed run whose objects moved no more than %.0f cm over its last %.0f s (the "
+      "controller's pushes moved nothing), not one cut short while progressing.\n",
+      100.0 * kStillDistance_m, kStalledSpan_s);
   md +=
       "\n## Completion time (s, successful runs)\n\n"
       "| scenario | median | p90 | worst (seed) | mean |\n|---|---|---|---|---|\n";
@@ -380,6 +387,11 @@ Distribution distribution(const std::vector<double>& values, const std::vector<u
   return d;
 }
 
+bool stalled(const RunRecord& record) {
+  return !record.success && record.error.empty() && record.still_since_s.has_value() &&
+         record.end_time_s - *record.still_since_s >= kStalledSpan_s;
+}
+
 std::vector<ScenarioStats> scenario_stats(const std::vector<RunRecord>& records) {
   std::vector<ScenarioStats> out;
   const auto all = [](const RunRecord&) { return true; };
@@ -392,6 +404,7 @@ std::vector<ScenarioStats> scenario_stats(const std::vector<RunRecord>& records)
       s.successes += r->success ? 1 : 0;
       if (!r->success) s.failed_seeds.push_back(r->key.seed);
       if (!r->error.empty()) s.twin_failure_seeds.push_back(r->key.seed);
+      if (stalled(*r)) s.stalled_seeds.push_back(r->key.seed);
       path_task = path_task || r->path_error_mean_cm.has_value();
     }
     s.success_rate = s.runs ? static_cast<double>(s.successes) / s.runs : 0.0;
@@ -426,7 +439,8 @@ std::string runs_csv(std::vector<RunRecord> records) {
   std::string csv =
       "scenario,seed,success,completion_time_s,path_error_mean_cm,path_error_std_cm,"
       "path_error_max_cm,max_pairwise_distance_cm,objects_in_zone,n_objects,decisions,end_time_s,"
-      "time_limit_s,perception,vision_frames,vision_detections,vision_tracks,vision_missed,"
+      "time_limit_s,still_since_s,perception,vision_frames,vision_detections,vision_tracks,vision_"
+      "missed,"
       "vision_merged,vision_lost,vision_left_view,error\n";
   for (const RunRecord& r : records) {
     csv += r.key.scenario + "," + std::to_string(r.key.seed) + "," + (r.success ? "1" : "0") + "," +
@@ -434,7 +448,7 @@ std::string runs_csv(std::vector<RunRecord> records) {
            cell(r.path_error_std_cm, "%.4f") + "," + cell(r.path_error_max_cm, "%.4f") +
            format(",%.4f,%d,%d,%lld,%.3f,%.3f,", r.max_pairwise_distance_cm, r.objects_in_zone,
                   r.n_objects, static_cast<long long>(r.decisions), r.end_time_s, r.time_limit_s) +
-           r.perception + ",";
+           cell(r.still_since_s, "%.3f") + "," + r.perception + ",";
     if (r.perception == "vision") {
       csv += format(
           "%lld,%lld,%lld,%lld,%lld,%lld,%lld,", static_cast<long long>(r.vision_frames),

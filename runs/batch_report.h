@@ -3,7 +3,8 @@
 //
 //   runs.csv     one row per run in (scenario, seed) order: the result fields of the records
 //   timings.csv  one row per run: wall-clock figures (machine dependent, so apart from runs.csv)
-//   report.json  per scenario: success rate (with a 95% Wilson interval), failed seeds, and the
+//   report.json  per scenario: success rate (with a 95% Wilson interval), failed seeds (and of
+//                them the stalled: objects still for the last kStalledSpan_s of the run), and the
 //                distributions over seeds of completion time, path error, pairwise distance,
 //                objects in zone and decisions: count, mean, median, p90, worst value and the
 //                worst seed; then the same for the timings under "timing"
@@ -28,6 +29,14 @@
 namespace airtwin {
 
 /// A figure's distribution over the runs of a scenario.
+/// A failed run whose objects moved no more than 1 cm over its last this many seconds
+/// (RunRecord::still_since_s) stalled: the controller's pushes moved nothing, rather than time
+/// running out while they progressed. Three decisions' holds (1.8 s each) less a frame.
+inline constexpr double kStalledSpan_s = 5.0;
+
+/// The record's run failed and had stalled at its end (see kStalledSpan_s).
+bool stalled(const RunRecord& record);
+
 struct Distribution {
   int count = 0;  ///< runs with the figure; the rest is 0 when count is 0
   double mean = 0.0, median = 0.0, p90 = 0.0;
@@ -42,7 +51,8 @@ struct ScenarioStats {
   double success_ci95_low = 0.0, success_ci95_high = 0.0;  ///< Wilson score interval
   std::vector<uint64_t> failed_seeds;                      ///< not done in time, or the twin failed
   std::vector<uint64_t> twin_failure_seeds;
-  Distribution completion_time_s;  ///< successful runs
+  std::vector<uint64_t> stalled_seeds;  ///< failed runs that had stalled (stalled())
+  Distribution completion_time_s;       ///< successful runs
   /// Path tasks only (unset for zone tasks): per-run mean and max distance to the path (cm).
   std::optional<Distribution> path_error_mean_cm, path_error_max_cm;
   Distribution max_pairwise_distance_cm;

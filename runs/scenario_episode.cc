@@ -110,7 +110,7 @@ struct ScenarioEpisode::Impl {
         s.nozzle = tw.commanded_orientation();
         run.log.trajectories[i].samples.push_back(s);
       }
-      metrics.add_frame(p, types);
+      metrics.add_frame(tw.time(), p, types);
       if (options.on_frame) options.on_frame(tw, frame, decisions_so_far);
     });
 
@@ -234,6 +234,7 @@ ScenarioRunResult ScenarioEpisode::result() const {
   result.path_error_m = metrics.path_error();
   result.max_pairwise_distance_m = metrics.max_pairwise_distance_m();
   result.objects_in_zone = metrics.objects_in_zone();
+  result.still_since_s = metrics.still_since_s();
   result.success = run_verdict(impl_->scenario.task.kind, result.loop.success,
                                result.objects_in_zone, result.n_objects);
   double sum = 0.0;

@@ -89,6 +89,7 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["decision_ms"] = {{"mean", r.decision_ms_mean}, {"max", r.decision_ms_max}};
   j["end_time_s"] = r.loop.end_time_s;
   j["time_limit_s"] = time_limit_s;
+  j["still_since_s"] = r.still_since_s;
   j["perception"] = r.perception;
   j["controller_done"] = r.loop.success;
   j["objects_seen_at_end"] = r.loop.objects_seen_at_end;

@@ -62,6 +62,8 @@ struct ScenarioRunResult {
   double max_pairwise_distance_m = 0.0;
   int objects_in_zone = 0;
   int n_objects = 0;
+  /// From this time (s) to the run's end no object moved more than 1 cm (RunMetrics).
+  double still_since_s = 0.0;
   double decision_ms_mean = 0.0, decision_ms_max = 0.0;
   /// "truth" or "vision"; for vision, the pipeline's figures.
   std::string perception = "truth";

@@ -154,27 +154,15 @@ TEST(BatchCli, KilledAnyTimeItResumesWithoutLossOrDuplicates) {
   // temporary file left.
   const std::string csv = read_text_file(d + "/killed/runs.csv");
   EXPECT_EQ(csv, read_text_file(d + "/whole/runs.csv"));
-  const CsvTable t = CsvTable::parse(csv, "runs.csv", {"scenario", "seed"},
-                                     {"success",
-                                      "completion_time_s",
-                                      "path_error_mean_cm",
-                                      "path_error_std_cm",
-                                      "path_error_max_cm",
-                                      "max_pairwise_distance_cm",
-                                      "objects_in_zone",
-                                      "n_objects",
-                                      "decisions",
-                                      "end_time_s",
-                                      "time_limit_s",
-                                      "perception",
-                                      "vision_frames",
-                                      "vision_detections",
-                                      "vision_tracks",
-                                      "vision_missed",
-                                      "vision_merged",
-                                      "vision_lost",
-                                      "vision_left_view",
-                                      "error"});
+  const CsvTable t =
+      CsvTable::parse(csv, "runs.csv", {"scenario", "seed"},
+                      {"success",           "completion_time_s", "path_error_mean_cm",
+                       "path_error_std_cm", "path_error_max_cm", "max_pairwise_distance_cm",
+                       "objects_in_zone",   "n_objects",         "decisions",
+                       "end_time_s",        "time_limit_s",      "still_since_s",
+                       "perception",        "vision_frames",     "vision_detections",
+                       "vision_tracks",     "vision_missed",     "vision_merged",
+                       "vision_lost",       "vision_left_view",  "error"});
   std::set<std::string> keys;
   for (size_t r = 0; r < t.rows(); ++r) keys.insert(t.text(r, "scenario") + t.text(r, "seed"));
   EXPECT_EQ(t.rows(), 12u);

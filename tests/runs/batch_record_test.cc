@@ -41,9 +41,38 @@ TEST(BatchRecord, HoldsTheRunSummaryAndReadsBackExactly) {
   EXPECT_EQ(rec.decisions, static_cast<int64_t>(r.loop.decisions.size()));
   EXPECT_EQ(rec.end_time_s, r.loop.end_time_s);
   EXPECT_EQ(rec.time_limit_s, sc.task.time_limit_s);
+  ASSERT_TRUE(rec.still_since_s.has_value());
+  EXPECT_EQ(*rec.still_since_s, r.still_since_s);
   EXPECT_EQ(rec.perception, "truth");
   EXPECT_EQ(rec.wall_s, 0.25);
   EXPECT_TRUE(rec.error.empty());
+  // The still time from the log itself: the last sample at which an object was more than 1 cm
+  // from where it was at the previous such sample (a second implementation over the log).
+  double since = 0.0;
+  std::vector<Eigen::Vector2d> from;
+  const auto& trajectories = r.log.trajectories;
+  for (size_t k = 0; k < trajectories[0].samples.size(); ++k) {
+    bool moved = from.empty();
+    for (size_t i = 0; i < trajectories.size() && !from.empty(); ++i) {
+      moved = moved || (trajectories[i].samples[k].p_W - from[i]).norm() > 0.01;
+    }
+    if (!moved) continue;
+    from.clear();
+    for (const auto& t : trajectories) from.push_back(t.samples[k].p_W);
+    since = trajectories[0].samples[k].t_s;
+  }
+  EXPECT_EQ(r.still_since_s, since);
+  EXPECT_GT(since, 0.0);
+  EXPECT_LE(since, r.loop.end_time_s);
+}
+
+// Records of an earlier airtwin (a batch resumed across versions) have no still_since_s.
+TEST(BatchRecord, ReadsRecordsWrittenBeforeTheStillTime) {
+  std::string json = failed_record_json({"line", 1}, 1, 120.0, "truth", "x", 1.0);
+  const auto at = json.find("  \"still_since_s\": null,\n");
+  ASSERT_NE(at, std::string::npos);
+  json.erase(at, std::string("  \"still_since_s\": null,\n").size());
+  EXPECT_FALSE(parse_record(json, "r.json").still_since_s.has_value());
 }
 
 TEST(BatchRecord, ATwinFailureIsAFailedRunWithItsMessage) {

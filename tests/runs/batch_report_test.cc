@@ -81,6 +81,13 @@ TEST(BatchReport, StatsPerScenarioWithFailuresAndWilsonIntervals) {
   EXPECT_EQ(line.path_error_max_cm->count, 10);
   EXPECT_DOUBLE_EQ(line.path_error_max_cm->worst, 3.0);
   EXPECT_EQ(line.decisions.worst_seed, 10u);
+  // Seed 4 failed with its objects still for the last 6 s, seed 7 for the last 4 s: only 4
+  // stalled (kStalledSpan_s 5 s); a success still at its end never stalls.
+  EXPECT_TRUE(line.stalled_seeds.empty());  // no still times given
+  records[3].still_since_s = 114.0;
+  records[6].still_since_s = 116.0;
+  records[0].still_since_s = 0.0;
+  EXPECT_EQ(scenario_stats(records)[0].stalled_seeds, (std::vector<uint64_t>{4}));
   const ScenarioStats& zeta = stats[1];
   EXPECT_EQ(zeta.twin_failure_seeds, (std::vector<uint64_t>{1}));
   EXPECT_EQ(zeta.failed_seeds, (std::vector<uint64_t>{1}));
@@ -101,9 +108,9 @@ TEST(BatchReport, RunsCsvIsInScenarioSeedOrderWhateverTheInputOrder) {
       sorted, "runs.csv",
       {"scenario", "seed", "success", "completion_time_s", "path_error_mean_cm", "error"},
       {"path_error_std_cm", "path_error_max_cm", "max_pairwise_distance_cm", "objects_in_zone",
-       "n_objects", "decisions", "end_time_s", "time_limit_s", "perception", "vision_frames",
-       "vision_detections", "vision_tracks", "vision_missed", "vision_merged", "vision_lost",
-       "vision_left_view"});
+       "n_objects", "decisions", "end_time_s", "time_limit_s", "still_since_s", "perception",
+       "vision_frames", "vision_detections", "vision_tracks", "vision_missed", "vision_merged",
+       "vision_lost", "vision_left_view"});
   ASSERT_EQ(t.rows(), 24u);
   EXPECT_EQ(t.text(0, "scenario"), "line");
   EXPECT_EQ(t.text(9, "seed"), "10");
