@@ -93,6 +93,9 @@ void run_run(const RunArgs& a) {
     std::printf(" (at %.1f s the perception had lost every object)", result.loop.end_time_s);
   } else if (!result.loop.success) {
     std::printf(" (time limit %.0f s", scenario.task.time_limit_s);
+    if (run_stalled(result.success, result.loop.end_time_s, result.still_since_s)) {
+      std::printf("; stalled: no object moved more than 1 cm after %.1f s", result.still_since_s);
+    }
     if (result.loop.objects_seen_at_end < result.n_objects) {
       std::printf("; the perception saw %d of the %d objects at the end",
                   result.loop.objects_seen_at_end, result.n_objects);

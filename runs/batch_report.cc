@@ -388,8 +388,8 @@ Distribution distribution(const std::vector<double>& values, const std::vector<u
 }
 
 bool stalled(const RunRecord& record) {
-  return !record.success && record.error.empty() && record.still_since_s.has_value() &&
-         record.end_time_s - *record.still_since_s >= kStalledSpan_s;
+  return record.error.empty() && record.still_since_s.has_value() &&
+         run_stalled(record.success, record.end_time_s, *record.still_since_s);
 }
 
 std::vector<ScenarioStats> scenario_stats(const std::vector<RunRecord>& records) {

@@ -29,12 +29,7 @@
 namespace airtwin {
 
 /// A figure's distribution over the runs of a scenario.
-/// A failed run whose objects moved no more than 1 cm over its last this many seconds
-/// (RunRecord::still_since_s) stalled: the controller's pushes moved nothing, rather than time
-/// running out while they progressed. Three decisions' holds (1.8 s each) less a frame.
-inline constexpr double kStalledSpan_s = 5.0;
-
-/// The record's run failed and had stalled at its end (see kStalledSpan_s).
+/// The record's run failed and had stalled at its end (run_stalled, runs/scenario_run.h).
 bool stalled(const RunRecord& record);
 
 struct Distribution {

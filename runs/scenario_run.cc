@@ -66,6 +66,10 @@ bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n
   return controller_done && (kind == TaskKind::kPath || objects_in_zone == n_objects);
 }
 
+bool run_stalled(bool success, double end_time_s, double still_since_s) {
+  return !success && end_time_s - still_since_s >= kStalledSpan_s;
+}
+
 std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   using nlohmann::ordered_json;
   ordered_json j;

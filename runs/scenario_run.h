@@ -109,6 +109,14 @@ std::vector<std::string> default_controller_models(bool cfd_air, bool physical_d
 /// sorting), the twin's truth agrees at that moment: all n_objects in their zones.
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects);
 
+/// A failed run whose objects moved no more than 1 cm over its last this many seconds
+/// (ScenarioRunResult::still_since_s) stalled: the controller's pushes moved nothing, rather than
+/// time running out while they progressed. Three decisions' holds (1.8 s each) less a frame.
+inline constexpr double kStalledSpan_s = 5.0;
+
+/// The run failed and its objects had been still (RunMetrics) for kStalledSpan_s at its end.
+bool run_stalled(bool success, double end_time_s, double still_since_s);
+
 /// Runs `scenario` in the twin under `field_model`. Throws InputError for unusable inputs,
 /// SimulationError when the twin fails.
 ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& field_model,

@@ -71,6 +71,14 @@ TEST(ScenarioRun, TheSummarySuccessIsTheTruthsVerdict) {
   EXPECT_NE(done.find("\"completion_time_s\": 37.8"), std::string::npos) << done;
 }
 
+// Stalled: failed, and still over the last kStalledSpan_s (5 s) of the run, bounds included.
+TEST(ScenarioRun, AStalledRunFailedStillForItsLastFiveSeconds) {
+  EXPECT_TRUE(run_stalled(false, 60.0, 21.775));
+  EXPECT_TRUE(run_stalled(false, 60.0, 55.0));
+  EXPECT_FALSE(run_stalled(false, 60.0, 55.025));
+  EXPECT_FALSE(run_stalled(true, 60.0, 21.775));  // done: still in its zones, not stalled
+}
+
 TEST(ScenarioRun, SameSeedSameBytesOtherSeedOtherRun) {
   const Scenario sc = read_scenario(scene("line"));
   const AirFieldModel field = AirFieldModel::with_constructed_table();
