@@ -183,8 +183,8 @@ check_batch() {
 # check_report DIR LABEL: each scenario of the batch in DIR against its floor
 check_report() {
   local dir=$1 label=$2
-  local status=0 line name ok runs failed floor
-  while IFS=$'\t' read -r name ok runs failed; do
+  local status=0 line name ok runs failed stalled floor
+  while IFS=$'\t' read -r name ok runs failed stalled; do
     floor=$(floor_of "$name$label")
     local need
     need=$(awk -v f="$floor" -v n="$runs" 'BEGIN{v=f*n; c=int(v); if (c<v) c++; print c}')
@@ -194,12 +194,13 @@ check_report() {
       status=1
       failures+=("sweep $name$label: $ok/$runs < $need")
     fi
-    sweep_rows+=("| $name$label | $ok/$runs | $need | ${failed:--} | $verdict |")
+    sweep_rows+=("| $name$label | $ok/$runs | $need | ${failed:--} | ${stalled:--} | $verdict |")
   done < <(/usr/bin/env python3 - "$dir/report.json" <<'EOF'
 import json, sys
 for s in json.load(open(sys.argv[1]))["scenarios"]:
-    print("%s\t%d\t%d\t%s" % (s["scenario"], s["successes"], s["runs"],
-                              " ".join(str(x) for x in s["failed_seeds"])))
+    print("%s\t%d\t%d\t%s\t%s" % (s["scenario"], s["successes"], s["runs"],
+                                  " ".join(str(x) for x in s["failed_seeds"]),
+                                  " ".join(str(x) for x in s.get("stalled_seeds", []))))
 EOF
   )
   return $status
@@ -253,8 +254,8 @@ if [ "$gain" = 1 ]; then stage gain gain_stage; fi
   echo
   echo "Test seeds (hidden-effect magnitudes): $test_seeds; sweep seeds 1-$seeds, vision 1-$vision_seeds."
   echo
-  echo "| scenario | success | floor | failed seeds | verdict |"
-  echo "|---|---|---|---|---|"
+  echo "| scenario | success | floor | failed seeds | of them stalled | verdict |"
+  echo "|---|---|---|---|---|---|"
   printf '%s\n' "${sweep_rows[@]}"
   echo
   echo "| stage | seconds | status |"
