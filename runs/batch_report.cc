@@ -439,9 +439,8 @@ std::string runs_csv(std::vector<RunRecord> records) {
   std::string csv =
       "scenario,seed,success,completion_time_s,path_error_mean_cm,path_error_std_cm,"
       "path_error_max_cm,max_pairwise_distance_cm,objects_in_zone,n_objects,decisions,end_time_s,"
-      "time_limit_s,still_since_s,perception,vision_frames,vision_detections,vision_tracks,vision_"
-      "missed,"
-      "vision_merged,vision_lost,vision_left_view,error\n";
+      "time_limit_s,still_since_s,perception,vision_frames,vision_detections,vision_tracks,"
+      "vision_missed,vision_merged,vision_lost,vision_left_view,error\n";
   for (const RunRecord& r : records) {
     csv += r.key.scenario + "," + std::to_string(r.key.seed) + "," + (r.success ? "1" : "0") + "," +
            cell(r.completion_time_s, "%.3f") + "," + cell(r.path_error_mean_cm, "%.4f") + "," +

@@ -29,9 +29,6 @@
 namespace airtwin {
 
 /// A figure's distribution over the runs of a scenario.
-/// The record's run failed and had stalled at its end (run_stalled, runs/scenario_run.h).
-bool stalled(const RunRecord& record);
-
 struct Distribution {
   int count = 0;  ///< runs with the figure; the rest is 0 when count is 0
   double mean = 0.0, median = 0.0, p90 = 0.0;
@@ -54,6 +51,9 @@ struct ScenarioStats {
   Distribution objects_in_zone_fraction;  ///< objects_in_zone / n_objects at the end
   Distribution decisions;
 };
+
+/// The record's run failed and had stalled at its end (run_stalled, runs/scenario_run.h).
+bool stalled(const RunRecord& record);
 
 /// The statistics of each scenario of `records` (in the order the scenarios first appear).
 std::vector<ScenarioStats> scenario_stats(const std::vector<RunRecord>& records);
