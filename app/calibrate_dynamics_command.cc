@@ -38,7 +38,7 @@ nlohmann::ordered_json triple(const ObjectDynamics& d) {
   return {{"xi1", d.xi1}, {"xi2", d.xi2}, {"xi3", d.xi3}};
 }
 
-// The windows searched by default (docs/twin.md, "Calibration of physical drag"): C_D from a
+// The windows searched by default (docs/twin.md, "Calibrating it"): C_D from a
 // hemisphere's 0.34 in free stream to a bluff body's ~1.2 in the floor's shear layer, kinetic
 // friction of foam or fibre on a smooth hard floor, the static excess of such pairs.
 std::vector<DragCalibrationAxis> default_axes() {
