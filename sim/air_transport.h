@@ -112,6 +112,8 @@ class AirTransport {
   /// True when every orientation of the kept history is the present one: every point then
   /// feels the present air.
   bool steady() const { return steps_since_change_ >= capacity_ - 1; }
+  /// How many orientations are kept (the present one included): at_lag() reads 0 to this - 1.
+  int capacity() const { return capacity_; }
   /// Steps back whose orientation reaches a point r_m from s (0: the present), at most the
   /// history's span; with the formation, the lag less ln 2 tau(r). `carry`: phi (top of file).
   int lag_steps(double r_m, double carry = 1.0) const;

@@ -17,30 +17,26 @@ ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params
     f.reached = initial;
     f.reached_s = transport_.s_at_lag(0);
   }
-  // At most two lookups per point a step (the reached orientation, and the formation's
-  // orientation before it): no reallocation, so the fields handed out stay valid through the
-  // step.
-  lagged_.reserve(2 * points);
+  ring_.assign(static_cast<size_t>(transport_.capacity()), cfd.at(initial));
 }
 
 void ReachedAir::push(const NozzleOrientation& effective, const CfdOrientedField& present) {
   transport_.push(effective, present.stagnation_point());
   present_ = &present;
+  newest_ = (newest_ + 1) % static_cast<int>(ring_.size());
+  ring_[static_cast<size_t>(newest_)] = present;
 }
 
 bool ReachedAir::begin_step() {
-  lagged_.clear();
   if (!transport_.enabled() || (transport_.steady() && !forming_)) return false;
   forming_ = false;
   return true;
 }
 
-const CfdOrientedField& ReachedAir::lagged(int steps) {
-  for (const auto& [k, f] : lagged_) {
-    if (k == steps) return f;
-  }
-  lagged_.emplace_back(steps, cfd_.at(transport_.at_lag(steps)));
-  return lagged_.back().second;
+const CfdOrientedField& ReachedAir::lagged(int steps) const {
+  const int n = static_cast<int>(ring_.size());
+  const int back = std::clamp(steps, 0, n - 1);
+  return ring_[static_cast<size_t>((newest_ - back + n) % n)];
 }
 
 const CfdOrientedField* ReachedAir::last_reached(const PointState& f) {

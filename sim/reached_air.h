@@ -13,7 +13,6 @@
 
 #include <Eigen/Core>
 #include <cstddef>
-#include <utility>
 #include <vector>
 
 #include "models/cfd_field.h"
@@ -50,8 +49,9 @@ class ReachedAir {
   const AirTransport& transport() const { return transport_; }
 
  private:
-  // The CFD's air of the orientation `steps` back (> 0), built once per step.
-  const CfdOrientedField& lagged(int steps);
+  // The CFD's air of the orientation `steps` back (> 0): the ring's, built once when it was the
+  // present orientation.
+  const CfdOrientedField& lagged(int steps) const;
   struct PointState;
   // The air of the orientation point f felt last step, when this step has it built (it is one
   // step further back now, usually looked up already); null otherwise.
@@ -63,6 +63,11 @@ class ReachedAir {
   const CfdField& cfd_;
   AirTransport transport_;
   const CfdOrientedField* present_ = nullptr;
+  // The air of every kept orientation, in step with the transport's ring: each present air is
+  // copied in as it is pushed, so no orientation's air is built again while it is kept (a
+  // 25-tracer twin looked up tens of lagged orientations a step while the nozzle moved).
+  std::vector<CfdOrientedField> ring_;
+  int newest_ = 0;
   // Per point: the orientation whose air reached it last step, its s, how many steps back that
   // was, and its departure from that air; the carried front's phi and where it was taken.
   struct PointState {
@@ -77,8 +82,6 @@ class ReachedAir {
   };
   std::vector<PointState> points_;
   bool forming_ = false;  // some point's departure is not yet zero
-  // This step's CFD airs of lagged orientations, by steps back (cleared every step).
-  std::vector<std::pair<int, CfdOrientedField>> lagged_;
 };
 
 }  // namespace airtwin
