@@ -20,15 +20,12 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "sim/twin.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin {
 namespace {
 
-const std::shared_ptr<const CfdField>& cfd() {
-  static const auto f =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  return f;
-}
+std::shared_ptr<const CfdField> cfd() { return testing::shipped_cfd(); }
 
 TEST(AirProbe, AHeldNozzleGivesTheCfdsSteadyAir) {
   const NozzleOrientation o{deg_to_rad(30.0), deg_to_rad(22.5)};

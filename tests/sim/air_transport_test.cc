@@ -16,6 +16,7 @@
 #include "common/errors.h"
 #include "common/units.h"
 #include "sim/twin.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin {
 namespace {
@@ -237,8 +238,7 @@ TEST(AirTransport, BadParametersNameTheField) {
 // timings (cfd_timing), by the CFD start-up's lag at r, after the CFD's transit. The formation
 // is off and the front is still air's (not carried): these check the lag alone.
 double onset_s(double front_speed_mps, bool cfd_timing) {
-  static const auto cfd =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
+  static const std::shared_ptr<const CfdField> cfd = testing::shipped_cfd();
   static const AirFieldModel model = AirFieldModel::with_constructed_table();
   TwinParameters p;
   p.air = AirForceParameters::none();
@@ -282,7 +282,7 @@ TEST(AirTransport, InCfdAirAFarObjectMeetsTheNewAirItsTransportTimeLater) {
 }
 
 TEST(AirTransport, TheCfdStartUpGivesTheTransitAndTheLag) {
-  const CfdField cfd = CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd");
+  const CfdField& cfd = *testing::shipped_cfd();
   ASSERT_NE(cfd.startup(), nullptr);
   const CfdStartup& s = *cfd.startup();
   const double rigid = onset_s(0.0, false), rigid_cfd = onset_s(0.0, true),
@@ -319,8 +319,7 @@ struct Formed {
   double command_s = 0.0;
 };
 Formed formed(double time_scale = 1.0) {
-  static const auto cfd =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
+  static const std::shared_ptr<const CfdField> cfd = testing::shipped_cfd();
   static const AirFieldModel model = AirFieldModel::with_constructed_table();
   const NozzleOrientation a{kPi, deg_to_rad(22.5)}, b{0.0, deg_to_rad(22.5)};
   TwinParameters p;
@@ -361,7 +360,7 @@ Formed formed(double time_scale = 1.0) {
 }
 
 TEST(AirTransport, TheNewAirFormsAtTheCfdPulsesRateAndArrivesWithTheStartUp) {
-  const CfdField cfd = CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd");
+  const CfdField& cfd = *testing::shipped_cfd();
   ASSERT_NE(cfd.formation(), nullptr);
   auto first_above = [](const Formed& f, double level) {
     for (size_t i = 0; i < f.g.size(); ++i) {

@@ -16,15 +16,12 @@
 
 #include "common/random_stream.h"
 #include "common/units.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin {
 namespace {
 
-const std::shared_ptr<const CfdField>& cfd() {
-  static const auto f =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  return f;
-}
+std::shared_ptr<const CfdField> cfd() { return testing::shipped_cfd(); }
 
 constexpr double kDt = 2.5e-3;  // s: the twin's step
 

@@ -19,9 +19,12 @@
 #include "tests/support/cfd_cases.h"
 #include "tests/support/eq8_reference.h"
 #include "tests/support/scratch_dir.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin {
 namespace {
+
+using testing::shipped_cfd;
 
 // "t" + i, built without operator+ (GCC 12 -O3 reports a false -Wrestrict on it).
 std::string numbered(const char* prefix, int i) {
@@ -33,13 +36,6 @@ std::string numbered(const char* prefix, int i) {
 const AirFieldModel& field_model() {
   static const AirFieldModel model = AirFieldModel::with_constructed_table();
   return model;
-}
-
-// The shipped CFD of the jet (data/cfd/), read once.
-std::shared_ptr<const CfdField> shipped_cfd() {
-  static const auto cfd =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  return cfd;
 }
 
 // The fixture turns MuJoCo warnings into failures (STYLE.md).

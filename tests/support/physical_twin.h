@@ -10,15 +10,9 @@
 #include "models/cfd_field.h"
 #include "models/field_model_file.h"
 #include "runs/scenario_run.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin::testing {
-
-/// The shipped CFD cases, read once per process.
-inline std::shared_ptr<const CfdField> shipped_cfd() {
-  static const auto cfd =
-      std::make_shared<const CfdField>(CfdField::read_dir(AIRTWIN_SOURCE_DIR "/data/cfd"));
-  return cfd;
-}
 
 /// The twin: CFD air, every object type on physical drag with its default parameters.
 inline TwinParameters physical_twin() {
