@@ -128,6 +128,10 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
   sub->add_option("--air-front-counter-flow", flags.front_counter_flow,
                   "... less this share of the old air flowing against it, in [0, 2]")
       ->capture_default_str();
+  sub->add_flag("--air-turbulence-swept", flags.turbulence_swept,
+                "In CFD air, the eddies each object feels are also swept past it at its speed\n"
+                "relative to the mean air, so they decorrelate in 1 / (1 / T_L + |u - v| / L11)\n"
+                "rather than T_L (the crossing-trajectories effect; docs/twin.md)");
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -158,6 +162,9 @@ void check_air_flags(const AirFlags& flags) {
                                flags.front_counter_flow != defaults.front_counter_flow)) {
     throw UsageError("--air-front-co-flow and --air-front-counter-flow need --air cfd");
   }
+  if (flags.air == "model" && flags.turbulence_swept) {
+    throw UsageError("--air-turbulence-swept needs --air cfd");
+  }
   AirTransportParameters transport;
   transport.formation_time_scale = flags.formation_time_scale;
   transport.front_co_flow = flags.front_co_flow;
@@ -183,6 +190,7 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     twin->cfd_air.reset();
     return;
   }
+  twin->air.turbulence_swept = flags.turbulence_swept;
   twin->air_transport.formation = !flags.no_formation;
   twin->air_transport.formation_time_scale = flags.formation_time_scale;
   twin->air_transport.front_co_flow = flags.front_co_flow;
@@ -207,6 +215,7 @@ std::string air_identity(const AirFlags& flags) {
                                : ", air formation x" + format_number(flags.formation_time_scale);
     drag += ", front carried x" + format_number(flags.front_co_flow) + " / held back x" +
             format_number(flags.front_counter_flow);
+    if (flags.turbulence_swept) drag += ", turbulence swept";
   }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;

@@ -96,17 +96,21 @@ struct AirFlags {
   /// front_counter_flow (the wall jet's front carried by the old air).
   double front_co_flow = AirTransportParameters{}.front_co_flow;
   double front_counter_flow = AirTransportParameters{}.front_counter_flow;
+  /// --air-turbulence-swept: AirForceParameters::turbulence_swept (the eddies an object feels
+  /// swept past it by the air relative to it).
+  bool turbulence_swept = false;
   /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
   std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
 /// euler|implicit, --air-formation, --no-air-formation, --air-formation-time-scale,
-/// --air-front-co-flow and --air-front-counter-flow to `sub`.
+/// --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// UsageError naming --air, --cfd, --drag, --integrator, --air-formation,
-/// --no-air-formation, --air-formation-time-scale or --air-front-* for a value or a combination
+/// --no-air-formation, --air-formation-time-scale, --air-front-* or --air-turbulence-swept for a
+/// value or a combination
 /// none of them takes. Reads no file.
 void check_air_flags(const AirFlags& flags);
 

@@ -11,14 +11,13 @@
 #include "common/parallel_for.h"
 #include "common/text.h"
 #include "common/units.h"
+#include "models/turbulence_time.h"
 
 namespace airtwin {
 namespace {
 
 // Kolmogorov's constant of the Lagrangian structure function (Pope 2000, section 12.4).
 constexpr double kC0 = 2.1;
-// L11 / (k^1.5 / epsilon) at high Reynolds number (Pope 2000, Fig. 6.22).
-constexpr double kL11 = 0.43;
 // The settling time before the averaging window, in units of the slower of tau and T_E.
 constexpr double kSettleTimes = 5.0;
 // Per-point streams: index = (tilt in micro-degrees) << kPointBits | (point + 1); 0 is the gain.
@@ -62,8 +61,7 @@ double eulerian_integral_time_s(double mean_speed_mps, double k, double epsilon)
           mean_speed_mps);
   // Decorrelation by the eddies' own life (T_L) and by the mean flow sweeping them past (L11 / U).
   const double t_lagrangian = 4.0 * k / (3.0 * kC0 * epsilon);
-  const double l11 = kL11 * std::pow(k, 1.5) / epsilon;
-  return 1.0 / (1.0 / t_lagrangian + mean_speed_mps / l11);
+  return swept_integral_time_s(t_lagrangian, mean_speed_mps, k, epsilon);
 }
 
 double simulate_hotwire_mean_mps(const HotWireAir& air, const HotWireSpec& spec,

@@ -70,11 +70,10 @@ struct HotWireAir {
 /// FieldError naming "hotwire.speed_mps".
 double hotwire_static_reading_mps(double speed_mps, const HotWireSpec& spec);
 
-/// The Eulerian integral time (s) of the velocity at a fixed probe: 1 / (1 / T_L + U / L11), the
-/// Lagrangian time T_L = 4 k / (3 C0 epsilon) (C0 = 2.1) where the mean flow is slow and the
-/// sweeping time L11 / U of eddies of integral length L11 = 0.43 k^1.5 / epsilon past the probe
-/// where it is fast (Pope, Turbulent Flows, 2000, sections 6.5 and 12.4). `mean_speed_mps` is
-/// |U| (m/s). k and epsilon > 0, else FieldError naming "hotwire.k" or "hotwire.epsilon".
+/// The Eulerian integral time (s) of the velocity at a fixed probe: swept_integral_time_s
+/// (models/turbulence_time.h) with the Lagrangian time T_L = 4 k / (3 C0 epsilon) (C0 = 2.1) and
+/// the sweep speed |U| = `mean_speed_mps` (m/s). k and epsilon > 0, else FieldError naming
+/// "hotwire.k" or "hotwire.epsilon".
 double eulerian_integral_time_s(double mean_speed_mps, double k, double epsilon);
 
 /// The one-minute mean reading (m/s) of the instrument at one point, without the calibration gain

@@ -57,9 +57,11 @@ void plan_with_model_files(const std::vector<std::string>& paths, const AirField
   }
 }
 
-std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag) {
-  if (cfd_air && physical_drag) return {AIRTWIN_MODEL_DATA_DIR "/twin/extended_model.json"};
-  return {};
+std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag,
+                                                   bool turbulence_swept) {
+  if (!(cfd_air && physical_drag)) return {};
+  if (turbulence_swept) return {AIRTWIN_MODEL_DATA_DIR "/twin_swept/extended_model.json"};
+  return {AIRTWIN_MODEL_DATA_DIR "/twin/extended_model.json"};
 }
 
 bool run_verdict(TaskKind kind, bool controller_done, int objects_in_zone, int n_objects) {

@@ -14,28 +14,37 @@
 # twin's commands plan with by default. Deterministic: the same binary gives the same bytes.
 # ~15 min on 2 cores.
 #
-# Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] --out OUT
+# --twin-flag F (repeatable) adds a flag of the twin's physics to every command, e.g.
+# --twin-flag --air-turbulence-swept: the models of that twin (not installable: models/data/twin/
+# are the default twin's).
+#
+# Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] [--twin-flag F ...] --out OUT
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 airtwin=build/airtwin
 out=""
 install=0
+extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --airtwin) airtwin="$2"; shift 2 ;;
     --install) install=1; shift ;;
+    --twin-flag) extra+=("$2"); shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fit_twin_models.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 [ -n "$out" ] || { echo "fit_twin_models.sh: --out OUT is required" >&2; exit 2; }
+if [ "$install" = 1 ] && [ ${#extra[@]} -gt 0 ]; then
+  echo "fit_twin_models.sh: --install makes the default twin's models; drop --twin-flag" >&2; exit 2
+fi
 [ -x "$airtwin" ] || { echo "fit_twin_models.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
 
 # The physical twin, named in full so that the models do not follow a change of the defaults.
 table=models/data/cfd_fitted_field_model.json
-twin=(--air cfd --drag physical)
+twin=(--air cfd --drag physical ${extra[@]+"${extra[@]}"})
 mkdir -p "$out"
 rm -rf "$out/logs" "$out/discrepancy"
 

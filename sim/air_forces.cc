@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "common/units.h"
+#include "models/turbulence_time.h"
 
 namespace airtwin {
 namespace {
@@ -406,7 +407,21 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       }
       sigma = std::sqrt(2.0 * std::max(k, 0.0) / 3.0);
       if (k > 0.0 && epsilon > 0.0) {
-        po.decay = std::exp(-timestep_s_ * epsilon / (params_.lagrangian_time_factor * k));
+        if (params_.turbulence_swept) {
+          // The eddies die after T_L and are swept past the object at its speed relative to the
+          // mean air (models/turbulence_time.h): a tracer held by friction in 3 m/s of air sees
+          // them for a few times less than T_L.
+          Eigen::Vector2d u_mean = Eigen::Vector2d::Zero();
+          for (Eigen::Index j = 0; j < n; ++j) {
+            u_mean += obj.area_share[j] * u_body_W_.col(first + j);
+          }
+          const double sweep_mps = (scale * turned(u_mean) - v_obj).norm();
+          po.decay = std::exp(-timestep_s_ /
+                              swept_integral_time_s(params_.lagrangian_time_factor * k / epsilon,
+                                                    sweep_mps, k, epsilon));
+        } else {
+          po.decay = std::exp(-timestep_s_ * epsilon / (params_.lagrangian_time_factor * k));
+        }
         po.kick = std::sqrt(std::max(0.0, 1.0 - po.decay * po.decay));
       }
     } else {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "models/trajectory_data.h"
 
@@ -77,6 +78,28 @@ TEST(ScenarioRun, AStalledRunFailedStillForItsLastFiveSeconds) {
   EXPECT_TRUE(run_stalled(false, 60.0, 55.0));
   EXPECT_FALSE(run_stalled(false, 60.0, 55.025));
   EXPECT_FALSE(run_stalled(true, 60.0, 21.775));  // done: still in its zones, not stalled
+}
+
+// The models planned with by default follow the twin: the physical one's own fitted models, the
+// swept turbulence's own, none (the paper's eq. (8)) elsewhere; and each named file reads.
+TEST(ScenarioRun, TheDefaultModelsAreTheTwinsOwn) {
+  EXPECT_TRUE(default_controller_models(false, true).empty());
+  EXPECT_TRUE(default_controller_models(true, false).empty());
+  EXPECT_TRUE(default_controller_models(false, false, true).empty());
+  const std::vector<std::string> physical = default_controller_models(true, true);
+  const std::vector<std::string> swept = default_controller_models(true, true, true);
+  ASSERT_EQ(physical.size(), 1u);
+  ASSERT_EQ(swept.size(), 1u);
+  EXPECT_NE(physical[0].find("/twin/extended_model.json"), std::string::npos);
+  EXPECT_NE(swept[0].find("/twin_swept/extended_model.json"), std::string::npos);
+  // Each is an extended model (the pressure push near s) whose tracer is not the paper's.
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
+  for (const std::vector<std::string>& files : {physical, swept}) {
+    ScenarioRunOptions options;
+    plan_with_model_files(files, field, &options);
+    EXPECT_TRUE(options.planning_extensions.has_value()) << files[0];
+    EXPECT_NE(options.dynamics.at("tracer").xi1, kTracerDynamics.xi1) << files[0];
+  }
 }
 
 TEST(ScenarioRun, SameSeedSameBytesOtherSeedOtherRun) {

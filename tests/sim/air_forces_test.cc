@@ -410,15 +410,20 @@ TEST(AirForces, InCfdAirTheDragAndPushTakeTheCfdsAirAtTheBodysHeight) {
   }
 }
 
-TEST(AirForces, InCfdAirTheTurbulenceHasTheCfdsVarianceAndTimeScale) {
+// The turbulent air a body at rest feels, read back from the drag over 100 s: its variance and
+// its one-step correlation exp(-dt / T).
+struct TurbulenceSeen {
+  double variance = 0.0;     // per component, m^2/s^2
+  double correlation = 0.0;  // one step (1 ms)
+};
+TurbulenceSeen turbulence_seen(double k, double epsilon, bool swept, const std::string& dir) {
   Floating f(kLow);
   const SceneParameters scene;
-  // sigma = sqrt(2k/3) = 0.2 m/s; T_L = 0.15 k / epsilon = 0.025 s.
-  const double k = 0.06, epsilon = 0.36;
-  const CfdField cfd = linear_cfd(testing::fresh_scratch_dir("cfd_turbulence"), k, epsilon);
+  const CfdField cfd = linear_cfd(testing::fresh_scratch_dir(dir), k, epsilon);
   const CfdOrientedField field = cfd.at(NozzleOrientation{0.0, deg_to_rad(10.0)});
   AirForceParameters params;
   params.stagnation_pressure_pa = 0.0;
+  params.turbulence_swept = swept;
   AirForces air(params, scene, {f.object}, 3, 0.001);
   air.set_air(field, 1.0);
   const ObjectTypeParameters& t = scene.tracer;
@@ -439,9 +444,32 @@ TEST(AirForces, InCfdAirTheTurbulenceHasTheCfdsVarianceAndTimeScale) {
     previous = u_prime;
     air.advance_turbulence();
   }
+  return {sum2 / n / 2.0, lag / sum2};
+}
+
+TEST(AirForces, InCfdAirTheTurbulenceHasTheCfdsVarianceAndTimeScale) {
+  // sigma = sqrt(2k/3) = 0.2 m/s; T_L = 0.15 k / epsilon = 0.025 s.
+  const double k = 0.06, epsilon = 0.36;
+  const TurbulenceSeen seen = turbulence_seen(k, epsilon, false, "cfd_turbulence");
   // 100 s of a 0.025 s process: ~4000 independent samples per component.
-  EXPECT_NEAR(sum2 / n / 2.0, 2.0 * k / 3.0, 0.1 * 2.0 * k / 3.0);
-  EXPECT_NEAR(lag / sum2, std::exp(-0.001 / (0.15 * k / epsilon)), 2e-3);
+  EXPECT_NEAR(seen.variance, 2.0 * k / 3.0, 0.1 * 2.0 * k / 3.0);
+  EXPECT_NEAR(seen.correlation, std::exp(-0.001 / (0.15 * k / epsilon)), 2e-3);
+}
+
+TEST(AirForces, SweptTurbulenceDecorrelatesAsItsEddiesPassTheBody) {
+  // The body rests in 2.13 m/s of mean air (linear_cfd_air at (0.3, 0.1), 1 cm up), which sweeps
+  // eddies of L11 = 0.43 k^1.5 / epsilon = 17.6 mm past it: it sees them for
+  // 1 / (1 / T_L + 2.13 / L11) = 6.2 ms instead of T_L = 25 ms.
+  const double k = 0.06, epsilon = 0.36;
+  const double swept = std::hypot(1.4, 1.6);
+  ASSERT_NEAR(swept, linear_cfd_air({0.3, 0.1}, 0.01, 0).norm(), 1e-12);
+  const double t_s =
+      1.0 / (1.0 / (0.15 * k / epsilon) + swept / (0.43 * std::pow(k, 1.5) / epsilon));
+  const TurbulenceSeen seen = turbulence_seen(k, epsilon, true, "cfd_turbulence_swept");
+  // ~16 000 independent samples per component; the one-step correlation's standard error is
+  // sqrt((1 - rho^2) / 2n) = 1.2e-3, bounded at 4 of them (T_L alone would give 0.961).
+  EXPECT_NEAR(seen.variance, 2.0 * k / 3.0, 0.1 * 2.0 * k / 3.0);
+  EXPECT_NEAR(seen.correlation, std::exp(-0.001 / t_s), 5e-3);
 }
 
 }  // namespace
