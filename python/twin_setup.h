@@ -1,7 +1,8 @@
 #pragma once
 // The twin's set-up as Python callers give it, for Twin and the environment alike: the options
 // `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
-// --mjcf, --air-formation / --no-air-formation, --air-formation-time-scale and --integrator,
+// --mjcf, --air-formation / --no-air-formation, --air-formation-time-scale, --integrator,
+// --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept,
 // validated by the libraries
 // that own them, so a bad value raises ValueError with the library's message (the field or the
 // effect named, never a flag).
@@ -40,6 +41,9 @@ struct TwinSetup {
   /// --air-front-counter-flow; both 0: the front of still air).
   double air_front_co_flow = AirTransportParameters{}.front_co_flow;
   double air_front_counter_flow = AirTransportParameters{}.front_counter_flow;
+  /// In the CFD's air, the eddies each object feels swept past it by the air relative to it
+  /// (AirForceParameters::turbulence_swept, --air-turbulence-swept).
+  bool air_turbulence_swept = false;
 };
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must

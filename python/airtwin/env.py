@@ -111,7 +111,8 @@ class AirJetEnv:
     True --air-formation, False --no-air-formation), air_formation_time_scale
     (--air-formation-time-scale), integrator ('euler' | 'implicit'), air_front_co_flow and
     air_front_counter_flow (the new wall jet's front carried by the old air:
-    --air-front-co-flow, --air-front-counter-flow);
+    --air-front-co-flow, --air-front-counter-flow), air_turbulence_swept (the eddies swept past
+    the objects: --air-turbulence-swept);
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
     controller's field model and the twin's analytical air; default the one fitted to the CFD),
     models (model.json or extended_model.json files; controller_action() plans with them;
@@ -131,7 +132,8 @@ class AirJetEnv:
                  vision_rate_hz=10.0, noise_sigma_grey=0.0, blur_sigma_px=0.0, air="cfd",
                  cfd=None, drag="physical", object_physics=(), effects=(), mjcf="", table="",
                  models=(), air_formation=None, air_formation_time_scale=0.5,
-                 integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0):
+                 integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0,
+                 air_turbulence_swept=False):
         if action_type not in ("stagnation", "orientation"):
             raise ValueError("action_type: expected stagnation or orientation, got '%s'"
                              % action_type)
@@ -146,7 +148,8 @@ class AirJetEnv:
                            air_formation_time_scale=float(air_formation_time_scale),
                            integrator=str(integrator),
                            air_front_co_flow=float(air_front_co_flow),
-                           air_front_counter_flow=float(air_front_counter_flow))
+                           air_front_counter_flow=float(air_front_counter_flow),
+                           air_turbulence_swept=bool(air_turbulence_swept))
         self._vision = dict(vision=bool(vision), calib=calib or "", vision_rate_hz=vision_rate_hz,
                             noise_sigma_grey=noise_sigma_grey, blur_sigma_px=blur_sigma_px)
         self._calib_dir = None
