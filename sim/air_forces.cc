@@ -410,7 +410,7 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
         if (params_.turbulence_swept) {
           // The eddies die after T_L and are swept past the object at its speed relative to the
           // mean air (models/turbulence_time.h): a tracer held by friction in 3 m/s of air sees
-          // them for a few times less than T_L.
+          // them for less than half of T_L.
           Eigen::Vector2d u_mean = Eigen::Vector2d::Zero();
           for (Eigen::Index j = 0; j < n; ++j) {
             u_mean += obj.area_share[j] * u_body_W_.col(first + j);

@@ -26,11 +26,15 @@ TEST(TurbulenceTime, TheEddiesLifeAndTheirSweepCombineAsRates) {
   EXPECT_NEAR(swept_integral_time_s(t_l, 1e5, k, epsilon) * 1e5 / l11, 1.0, 1e-4);
   // Where the two are equal the time is half of either: U = L11 / T_L.
   EXPECT_NEAR(swept_integral_time_s(t_l, l11 / t_l, k, epsilon), 0.5 * t_l, 1e-15);
-  // A tracer held in 3 m/s of the wall jet's air (k 0.3 m^2/s^2, epsilon 3 m^2/s^3 near the
-  // floor 0.4 m from s): 1 / (1 / 15 ms + 3 / 23.6 mm) = 5.2 ms, a third of T_L.
-  const double t = swept_integral_time_s(0.15 * 0.3 / 3.0, 3.0, 0.3, 3.0);
-  EXPECT_NEAR(t, 1.0 / (1.0 / 0.015 + 3.0 / (0.43 * std::pow(0.3, 1.5) / 3.0)), 1e-15);
-  EXPECT_LT(t, 0.4 * 0.015);
+  // A tracer held at its 5.6 mm centre 0.4 m from s at tilt 0, in the shipped CFD's air (2.96 m/s,
+  // k 0.611 m^2/s^2, epsilon 29.4 m^2/s^3): 1 / (1 / 3.12 ms + 2.96 / 6.99 mm) = 1.34 ms, less
+  // than half of T_L.
+  const double k_floor = 0.611, epsilon_floor = 29.4, t_l_floor = 0.15 * k_floor / epsilon_floor;
+  const double t = swept_integral_time_s(t_l_floor, 2.96, k_floor, epsilon_floor);
+  EXPECT_NEAR(t, 1.0 / (1.0 / t_l_floor + 2.96 / (0.43 * std::pow(k_floor, 1.5) / epsilon_floor)),
+              1e-15);
+  EXPECT_NEAR(t, 1.34e-3, 0.01e-3);
+  EXPECT_LT(t, 0.5 * t_l_floor);
 }
 
 TEST(TurbulenceTime, TheAnemometersEulerianTimeIsTheSweptTimeWithPopesLagrangianTime) {
