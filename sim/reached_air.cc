@@ -22,7 +22,6 @@ ReachedAir::ReachedAir(const CfdField& cfd, const AirTransportParameters& params
 
 void ReachedAir::push(const NozzleOrientation& effective, const CfdOrientedField& present) {
   transport_.push(effective, present.stagnation_point());
-  present_ = &present;
   newest_ = (newest_ + 1) % static_cast<int>(ring_.size());
   ring_[static_cast<size_t>(newest_)] = present;
 }
@@ -53,7 +52,7 @@ double ReachedAir::carry_factor(PointState& f, const Eigen::Vector2d& p_W, doubl
   constexpr double kSMoved2 = 0.05 * 0.05, kPointMoved2 = 0.02 * 0.02;  // m^2
   constexpr double kSegment = 0.10;                                     // m
   constexpr int kSamples = 6;
-  const Eigen::Vector2d& s0 = present_->stagnation_point();
+  const Eigen::Vector2d& s0 = lagged(0).stagnation_point();
   if (f.carry_set && (s0 - f.carry_s).squaredNorm() < kSMoved2 &&
       (p_W - f.carry_p).squaredNorm() < kPointMoved2 &&
       (f.reached_s - f.carry_reached_s).squaredNorm() < kSMoved2) {
@@ -89,7 +88,7 @@ ReachedAir::PointAir ReachedAir::at(size_t i, const Eigen::Vector2d& p_W, double
     const NozzleOrientation& now = transport_.at_lag(steps);
     const bool changed = now.pan_rad != f.reached.pan_rad || now.tilt_rad != f.reached.tilt_rad;
     if (transport_.forms()) {
-      const CfdOrientedField& reached = steps == 0 ? *present_ : lagged(steps);
+      const CfdOrientedField& reached = lagged(steps);
       if (changed) {
         const CfdOrientedField* last = last_reached(f);
         const Eigen::Vector2d u_before =

@@ -28,8 +28,8 @@ class ReachedAir {
   ReachedAir(const CfdField& cfd, const AirTransportParameters& params, double timestep_s,
              const NozzleOrientation& initial, size_t points);
 
-  /// Records this step's effective orientation and its air `present` (must outlive the step's
-  /// lookups); once per step, before begin_step().
+  /// Records this step's effective orientation and its air `present` (copied); once per step,
+  /// before begin_step().
   void push(const NozzleOrientation& effective, const CfdOrientedField& present);
 
   /// Begins this step's lookups. False when every point feels the present air with no departure
@@ -49,12 +49,12 @@ class ReachedAir {
   const AirTransport& transport() const { return transport_; }
 
  private:
-  // The CFD's air of the orientation `steps` back (> 0): the ring's, built once when it was the
-  // present orientation.
+  // The CFD's air of the orientation `steps` back (0: the present one): the ring's, built once
+  // when it was the present orientation.
   const CfdOrientedField& lagged(int steps) const;
   struct PointState;
-  // The air of the orientation point f felt last step, when this step has it built (it is one
-  // step further back now, usually looked up already); null otherwise.
+  // The air of the orientation point f felt last step, when it is the one a step further back
+  // now (the ring's); null otherwise.
   const CfdOrientedField* last_reached(const PointState& f);
   // phi for point i at p_W (sim/air_transport.h): the front from the newest s through the air
   // the point felt last step.
@@ -62,7 +62,6 @@ class ReachedAir {
 
   const CfdField& cfd_;
   AirTransport transport_;
-  const CfdOrientedField* present_ = nullptr;
   // The air of every kept orientation, in step with the transport's ring: each present air is
   // copied in as it is pushed, so no orientation's air is built again while it is kept (a
   // 25-tracer twin looked up tens of lagged orientations a step while the nozzle moved).
