@@ -128,10 +128,16 @@ void add_air_flags(CLI::App* sub, AirFlags& flags) {
   sub->add_option("--air-front-counter-flow", flags.front_counter_flow,
                   "... less this share of the old air flowing against it, in [0, 2]")
       ->capture_default_str();
-  sub->add_flag("--air-turbulence-swept", flags.turbulence_swept,
-                "In CFD air, the eddies each object feels are also swept past it at its speed\n"
-                "relative to the mean air, so they decorrelate in 1 / (1 / T_L + |u - v| / L11)\n"
-                "rather than T_L (the crossing-trajectories effect; docs/twin.md)");
+  CLI::Option* swept = sub->add_flag(
+      "--air-turbulence-swept", flags.turbulence_swept,
+      "In CFD air, the eddies each object feels are also swept past it at its speed relative\n"
+      "to the mean air, so they decorrelate in 1 / (1 / T_L + |u - v| / L11) rather than T_L\n"
+      "(the crossing-trajectories effect; docs/twin.md): the default in CFD air");
+  sub->add_flag("--no-air-turbulence-swept", flags.no_turbulence_swept,
+                "In CFD air, the eddies decorrelate in the Lagrangian time T_L alone (the\n"
+                "controller then plans with the models fitted to that twin,\n"
+                "models/data/twin_lagrangian/)")
+      ->excludes(swept);
 }
 
 void check_air_flags(const AirFlags& flags) {
@@ -190,7 +196,7 @@ void apply_air_flags(const AirFlags& flags, TwinParameters* twin) {
     twin->cfd_air.reset();
     return;
   }
-  twin->air.turbulence_swept = flags.turbulence_swept;
+  twin->air.turbulence_swept = !flags.no_turbulence_swept;
   twin->air_transport.formation = !flags.no_formation;
   twin->air_transport.formation_time_scale = flags.formation_time_scale;
   twin->air_transport.front_co_flow = flags.front_co_flow;
@@ -215,7 +221,7 @@ std::string air_identity(const AirFlags& flags) {
                                : ", air formation x" + format_number(flags.formation_time_scale);
     drag += ", front carried x" + format_number(flags.front_co_flow) + " / held back x" +
             format_number(flags.front_counter_flow);
-    if (flags.turbulence_swept) drag += ", turbulence swept";
+    if (flags.no_turbulence_swept) drag += ", turbulence T_L alone";
   }
   if (flags.integrator != "euler") drag += ", integrator " + flags.integrator;
   if (flags.air != "cfd") return flags.air + drag;

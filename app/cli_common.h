@@ -96,16 +96,19 @@ struct AirFlags {
   /// front_counter_flow (the wall jet's front carried by the old air).
   double front_co_flow = AirTransportParameters{}.front_co_flow;
   double front_counter_flow = AirTransportParameters{}.front_counter_flow;
-  /// --air-turbulence-swept: AirForceParameters::turbulence_swept (the eddies an object feels
-  /// swept past it by the air relative to it).
+  /// The eddies an object feels swept past it by the air relative to it
+  /// (AirForceParameters::turbulence_swept) are on in CFD air. --air-turbulence-swept asks for
+  /// them (an error in the model's air); --no-air-turbulence-swept switches them off (T_L alone).
   bool turbulence_swept = false;
+  bool no_turbulence_swept = false;
   /// --integrator euler|implicit: MuJoCo's integrator (SceneParameters::implicit_integrator).
   std::string integrator = "euler";
 };
 
 /// Adds --air cfd|model, --cfd DIR, --drag eq8|physical, --object-physics, --integrator
 /// euler|implicit, --air-formation, --no-air-formation, --air-formation-time-scale,
-/// --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept to `sub`.
+/// --air-front-co-flow, --air-front-counter-flow, --air-turbulence-swept and
+/// --no-air-turbulence-swept to `sub`.
 void add_air_flags(CLI::App* sub, AirFlags& flags);
 
 /// UsageError naming --air, --cfd, --drag, --integrator, --air-formation,

@@ -25,7 +25,8 @@ void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& cal
                   "discrepancy' (repeatable, one per object type): the dynamics the controller\n"
                   "plans with (default: in the physical twin, CFD air and physical drag, the\n"
                   "models fitted to it, models/data/twin/extended_model.json, with\n"
-                  "--air-turbulence-swept models/data/twin_swept/; otherwise the paper's eq. (8))");
+                  "--no-air-turbulence-swept models/data/twin_lagrangian/; otherwise the paper's\n"
+                  "eq. (8))");
   sub->add_option("--effect", f.effects,
                   "Switch on a physical effect in the twin, NAME:k=v,... (repeatable)");
   add_air_flags(sub, f.air);
@@ -65,7 +66,7 @@ void check_run_setup_flags(const RunSetupFlags& f) {
 std::vector<std::string> controller_models(const RunSetupFlags& f) {
   if (!f.models.empty()) return f.models;
   return default_controller_models(f.air.air == "cfd", f.air.drag == "physical",
-                                   f.air.turbulence_swept);
+                                   !f.air.no_turbulence_swept);
 }
 
 AirFieldModel field_model_of(const RunSetupFlags& f) { return field_model_or_default(f.table); }

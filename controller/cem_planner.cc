@@ -650,12 +650,13 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
   }
 
   // s* is the final mean (section V-A). Should the mean itself be infeasible (the elites straddle
-  // an object's penalty disc), the cheapest candidate seen stands in for it.
+  // an object's penalty disc), or cost more than the cheapest candidate seen when keep_cheapest
+  // is set, that candidate stands in for it.
   NozzleOrientation orientation;
   bool feasible = false;
   Eigen::Vector2d s = to_point(mu);
   double j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
-  if (!feasible && best_cost < p.penalty) {
+  if ((!feasible || (p.keep_cheapest && best_cost < j)) && best_cost < p.penalty) {
     s = to_point(best_z);
     j = evaluate(model_, preds, p, problem, s, scratch, &orientation, &feasible);
   }

@@ -43,6 +43,15 @@
 //    has no term for a group's cohesion, and the cheapest rescue often scattered the octagon's
 //    four tracers (docs/controller.md).
 //
+// Cheapest seen (keep_cheapest, not in the paper): s* is the final mean (section V-A), which
+// the search never evaluated. When it stops unconverged with the elites on two sides of a ridge
+// of penalties (most samples within delta_min of an object or sweeping past one), that mean can
+// be a push far worse than any sample it drew: measured in the octagon, a mean 4 cm from the
+// point below the nozzle, at tilt 2.6 deg, that flung the four tracers 45 cm out (eq. 10 of
+// 1.77 m where the cheapest sample had 0.30 m) to where no stagnation point within the tilt
+// range could push them back (docs/controller.md, "The cheapest candidate"). With the option
+// the decision is the cheaper of the final mean and the cheapest candidate evaluated.
+//
 // Transition (predict_transition, not in the paper): eq. (10) is evaluated on the prediction of
 // the whole re-aim. The servos take up to ~1 s to turn (7 rad/s, 30 rad/s^2) and never wrap in
 // pan, so from pan 140 deg to -95 deg the jet sweeps 235 deg over the floor, and the air follows
@@ -130,6 +139,9 @@ struct CemParameters {
   /// while the servos turn (see above). 0, the paper's: the penalty on the new s only. Needs the
   /// previous command (PlanningProblem::nozzle_now); without it only the new s is checked.
   double sweep_clearance_m = 0.0;
+  /// The decision is the cheaper of the final mean and the cheapest candidate the search
+  /// evaluated (see above). false, the paper's: the final mean, whatever it costs.
+  bool keep_cheapest = false;
 
   /// The paper's values for each search.
   static CemParameters line_defaults();

@@ -54,7 +54,7 @@ struct ControllerSetup {
 std::vector<std::string> models_of(const ControllerSetup& controller, const TwinSetup& setup) {
   if (!controller.models.empty()) return controller.models;
   return default_controller_models(setup.air == "cfd", setup.drag == "physical",
-                                   setup.air_turbulence_swept);
+                                   setup.air_turbulence_swept.value_or(true));
 }
 
 AirFieldModel field_model_of(const ControllerSetup& setup) {
@@ -221,7 +221,7 @@ void bind_run(py::module_& m) {
          const std::string& mjcf, const std::string& table, const std::vector<std::string>& models,
          std::optional<bool> air_formation, double air_formation_time_scale,
          const std::string& integrator, double air_front_co_flow, double air_front_counter_flow,
-         bool air_turbulence_swept) {
+         std::optional<bool> air_turbulence_swept) {
         return run(scenario_path, seed,
                    TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf,
                              air_formation, air_formation_time_scale, integrator, air_front_co_flow,
@@ -236,7 +236,7 @@ void bind_run(py::module_& m) {
       py::arg("integrator") = "euler",
       py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
       py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
-      py::arg("air_turbulence_swept") = false,
+      py::arg("air_turbulence_swept") = py::none(),
       "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth), as "
       "`airtwin run SCENARIO --seed N` does; the twin's set-up as Twin's (air, cfd, drag, "
       "object_physics, effects, mjcf, air_formation, air_formation_time_scale, integrator: the "
@@ -244,12 +244,13 @@ void bind_run(py::module_& m) {
       "the default, True: --air-formation, False: --no-air-formation), "
       "--air-formation-time-scale, --integrator; air_front_co_flow, air_front_counter_flow, "
       "air_turbulence_swept: --air-front-co-flow, --air-front-counter-flow, "
-      "--air-turbulence-swept); the controller's field model `table` "
+      "--air-turbulence-swept (None: the default, on in CFD air; False: "
+      "--no-air-turbulence-swept)); the controller's field model `table` "
       "(a table CSV or field-model "
       "JSON, as --table; default the one fitted to the CFD) and `models` (model.json or "
       "extended_model.json files, as --model; default, as the CLI's: in the physical twin the "
       "models fitted to it, models/data/twin/extended_model.json or, with "
-      "air_turbulence_swept, models/data/twin_swept/, else the paper's eq. (8)).");
+      "air_turbulence_swept False, models/data/twin_lagrangian/, else the paper's eq. (8)).");
 
   py::class_<DecisionRecord>(m, "Decision", "One decision of the shipped controller.")
       .def_property_readonly(
@@ -277,7 +278,7 @@ void bind_run(py::module_& m) {
                        double vision_rate_hz, double noise_sigma_grey, double blur_sigma_px,
                        std::optional<bool> air_formation, double air_formation_time_scale,
                        const std::string& integrator, double air_front_co_flow,
-                       double air_front_counter_flow, bool air_turbulence_swept) {
+                       double air_front_counter_flow, std::optional<bool> air_turbulence_swept) {
              return std::make_unique<PyEpisode>(
                  scenario_path, seed,
                  TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf, air_formation,
@@ -298,7 +299,7 @@ void bind_run(py::module_& m) {
            py::arg("integrator") = "euler",
            py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
            py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
-           py::arg("air_turbulence_swept") = false,
+           py::arg("air_turbulence_swept") = py::none(),
            "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
            "models); vision: the controller sees "
            "through the detection pipeline on rendered frames (as --vision), with the camera "

@@ -156,7 +156,7 @@ void bind_twin(py::module_& m) {
                        const std::vector<std::string>& effects, const std::string& mjcf,
                        std::optional<bool> air_formation, double air_formation_time_scale,
                        const std::string& integrator, double air_front_co_flow,
-                       double air_front_counter_flow, bool air_turbulence_swept,
+                       double air_front_counter_flow, std::optional<bool> air_turbulence_swept,
                        const std::optional<AirFieldModel>& field) {
              const TwinSetup setup{air,
                                    std::move(cfd),
@@ -183,7 +183,7 @@ void bind_twin(py::module_& m) {
            py::arg("integrator") = "euler",
            py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
            py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
-           py::arg("air_turbulence_swept") = false, py::arg("field") = py::none(),
+           py::arg("air_turbulence_swept") = py::none(), py::arg("field") = py::none(),
            "The scenario's objects, seeded with `seed`; the servos at rest at (pan_deg, tilt_deg) "
            "and the jet running (settled) unless jet_on is False. The twin's set-up, as the CLI's "
            "flags, whose defaults it shares (the physical twin): air 'cfd' (the jet's CFD: `cfd`, "
@@ -196,7 +196,9 @@ void bind_twin(py::module_& m) {
            "'euler' or 'implicit' (--integrator); air_front_co_flow and air_front_counter_flow, "
            "the new wall jet's front carried by the old air (--air-front-co-flow, "
            "--air-front-counter-flow; both 0: the front of still air); air_turbulence_swept, "
-           "the eddies swept past the objects (--air-turbulence-swept); field, the analytical air "
+           "the eddies swept past the objects in the CFD's air: None on, True asks for them "
+           "(--air-turbulence-swept), False the Lagrangian time alone (--no-air-turbulence-swept); "
+           "field, the analytical air "
            "(a Field, as --table; default Field.default()).")
       .def("reset", &PyTwin::reset, "Builds the twin again: the same start, to the last bit.")
       .def(

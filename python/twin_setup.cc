@@ -67,12 +67,10 @@ TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario)
       throw FieldError(co ? "air_front_co_flow" : "air_front_counter_flow", e.detail());
     }
   }
-  if (setup.air_turbulence_swept) {
-    if (!params.cfd_air) {
-      throw FieldError("air_turbulence_swept", "needs the CFD's air (air 'cfd')");
-    }
-    params.air.turbulence_swept = true;
+  if (setup.air_turbulence_swept.value_or(false) && !params.cfd_air) {
+    throw FieldError("air_turbulence_swept", "needs the CFD's air (air 'cfd')");
   }
+  params.air.turbulence_swept = setup.air_turbulence_swept.value_or(true);
   if (setup.integrator != "euler" && setup.integrator != "implicit") {
     throw FieldError("integrator", "expected euler or implicit, got '" + setup.integrator + "'");
   }

@@ -2,7 +2,7 @@
 // The twin's set-up as Python callers give it, for Twin and the environment alike: the options
 // `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
 // --mjcf, --air-formation / --no-air-formation, --air-formation-time-scale, --integrator,
-// --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept,
+// --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept / --no-...,
 // validated by the libraries
 // that own them, so a bad value raises ValueError with the library's message (the field or the
 // effect named, never a flag).
@@ -42,8 +42,10 @@ struct TwinSetup {
   double air_front_co_flow = AirTransportParameters{}.front_co_flow;
   double air_front_counter_flow = AirTransportParameters{}.front_counter_flow;
   /// In the CFD's air, the eddies each object feels swept past it by the air relative to it
-  /// (AirForceParameters::turbulence_swept, --air-turbulence-swept).
-  bool air_turbulence_swept = false;
+  /// (AirForceParameters::turbulence_swept): unset, on in the CFD's air; true asks for them
+  /// (--air-turbulence-swept: an error in the model's air); false, T_L alone
+  /// (--no-air-turbulence-swept).
+  std::optional<bool> air_turbulence_swept;
 };
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must

@@ -60,7 +60,7 @@ void plan_with_model_files(const std::vector<std::string>& paths, const AirField
 std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag,
                                                    bool turbulence_swept) {
   if (!(cfd_air && physical_drag)) return {};
-  if (turbulence_swept) return {AIRTWIN_MODEL_DATA_DIR "/twin_swept/extended_model.json"};
+  if (!turbulence_swept) return {AIRTWIN_MODEL_DATA_DIR "/twin_lagrangian/extended_model.json"};
   return {AIRTWIN_MODEL_DATA_DIR "/twin/extended_model.json"};
 }
 

@@ -102,10 +102,11 @@ void plan_with_model_files(const std::vector<std::string>& paths, const AirField
 /// The model files the controller plans with unless its user names others: in the physical twin
 /// (the CFD's air and physical drag) the models fitted to it the way a rig's user fits theirs
 /// (models/data/twin/extended_model.json, scripts/fit_twin_models.sh; docs/twin.md), with the
-/// turbulence swept past the objects those fitted to that twin (models/data/twin_swept/); in any
-/// other twin none, i.e. the paper's eq. (8). The CLI and the Python module share this rule.
+/// turbulence's Lagrangian time alone (AirForceParameters::turbulence_swept false) those fitted
+/// to that twin (models/data/twin_lagrangian/); in any other twin none, i.e. the paper's eq. (8).
+/// The CLI and the Python module share this rule.
 std::vector<std::string> default_controller_models(bool cfd_air, bool physical_drag,
-                                                   bool turbulence_swept = false);
+                                                   bool turbulence_swept = true);
 
 /// A run succeeded when the controller saw its task done and, for a zone task (aggregation,
 /// sorting), the twin's truth agrees at that moment: all n_objects in their zones.

@@ -400,7 +400,7 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
               std::initializer_list<const char*>{
                   "search", "horizon_s", "penalty", "min_distance_m", "mean0_m", "variance0_m2",
                   "samples", "elite", "max_iterations", "converged_variance_m2", "scan_step_m",
-                  "predict_transition", "sweep_clearance_m"});
+                  "predict_transition", "sweep_clearance_m", "keep_cheapest"});
     if (auto s = m->optional("search")) {
       search = r.choice(*s, {"line", "plane"}) == "line" ? CemSearch::kLine : CemSearch::kPlane;
     }
@@ -426,6 +426,7 @@ CemParameters read_controller(const Reader& r, const std::optional<Field>& f, Ta
   if (auto v = m->optional("sweep_clearance_m")) {
     p.sweep_clearance_m = r.in_range(*v, 0.0, 1.0, " m");
   }
+  if (auto v = m->optional("keep_cheapest")) p.keep_cheapest = r.boolean(*v);
   // n* must leave a choice among the n samples.
   if (auto v = m->optional("elite")) p.elite = r.integer(*v, 1, p.samples);
   if (!(p.elite >= 1 && p.elite <= p.samples)) {

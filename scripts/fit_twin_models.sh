@@ -15,8 +15,8 @@
 # ~15 min on 2 cores.
 #
 # --twin-flag F (repeatable) adds a flag of the twin's physics to every command, e.g.
-# --twin-flag --air-turbulence-swept: the models of that twin (not installable: models/data/twin/
-# are the default twin's).
+# --twin-flag --no-air-turbulence-swept: the models of that twin (models/data/twin_lagrangian/;
+# not installable: models/data/twin/ are the default twin's).
 #
 # Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] [--twin-flag F ...] --out OUT
 set -euo pipefail
@@ -44,7 +44,12 @@ fi
 
 # The physical twin, named in full so that the models do not follow a change of the defaults.
 table=models/data/cfd_fitted_field_model.json
-twin=(--air cfd --drag physical ${extra[@]+"${extra[@]}"})
+twin=(--air cfd --drag physical)
+case " ${extra[*]-} " in
+  *" --no-air-turbulence-swept "*) ;;
+  *) twin+=(--air-turbulence-swept) ;;
+esac
+twin+=(${extra[@]+"${extra[@]}"})
 mkdir -p "$out"
 rm -rf "$out/logs" "$out/discrepancy"
 

@@ -19,7 +19,8 @@
 #                --air-formation-time-scale; default 0.5)
 #   --still-front  the new wall jet's front as in still air (airtwin's --air-front-co-flow 0;
 #                by default it is carried by the old air)
-#   --turbulence-swept  the eddies swept past the objects (airtwin's --air-turbulence-swept)
+#   --turbulence-lagrangian  the eddies decorrelate in the Lagrangian time alone (airtwin's
+#                --no-air-turbulence-swept; by default they are also swept past the objects)
 #   --first-seed F  the batches' seeds are F..F+N-1 (default 1)
 #   --discrepancy  after the batch: the line, the square and the letter A run at the calibration
 #                seeds 101-105 with the identified model, logs kept; `airtwin discrepancy` on the
@@ -50,7 +51,7 @@ while [ $# -gt 0 ]; do
     --first-seed) first_seed="$2"; shift 2 ;;
     --discrepancy) discrepancy=1; shift ;;
     --no-formation) formation+=(--no-air-formation); shift ;;
-    --turbulence-swept) formation+=(--air-turbulence-swept); shift ;;
+    --turbulence-lagrangian) formation+=(--no-air-turbulence-swept); shift ;;
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
     --still-front) formation+=(--air-front-co-flow 0); shift ;;
     --model) model="$2"; shift 2 ;;
@@ -59,7 +60,7 @@ while [ $# -gt 0 ]; do
     --cotton-physics) cotton_physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done

@@ -107,9 +107,9 @@ struct AirForceParameters {
   double lagrangian_time_factor = 0.15;
   /// Under the CFD's air, the eddies an object feels are also swept past it at its speed
   /// relative to the mean air, so their correlation time is 1 / (1 / T_L + |u - v| / L11)
-  /// (models/turbulence_time.h: the crossing-trajectories effect), not T_L alone. Off by
-  /// default until the closed loop copes with the stalls it brings (docs/twin.md).
-  bool turbulence_swept = false;
+  /// (models/turbulence_time.h: the crossing-trajectories effect); false: T_L alone
+  /// (docs/twin.md, "Turbulence swept past the objects").
+  bool turbulence_swept = true;
 
   // Effects (sim/effects.h), neutral by default.
   double field_scale = 1.0;           ///< factor f on the air speed (> 0)

@@ -112,7 +112,8 @@ class AirJetEnv:
     (--air-formation-time-scale), integrator ('euler' | 'implicit'), air_front_co_flow and
     air_front_counter_flow (the new wall jet's front carried by the old air:
     --air-front-co-flow, --air-front-counter-flow), air_turbulence_swept (the eddies swept past
-    the objects: --air-turbulence-swept);
+    the objects in the CFD's air: None on, True --air-turbulence-swept, False
+    --no-air-turbulence-swept);
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
     controller's field model and the twin's analytical air; default the one fitted to the CFD),
     models (model.json or extended_model.json files; controller_action() plans with them;
@@ -133,7 +134,7 @@ class AirJetEnv:
                  cfd=None, drag="physical", object_physics=(), effects=(), mjcf="", table="",
                  models=(), air_formation=None, air_formation_time_scale=0.5,
                  integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0,
-                 air_turbulence_swept=False):
+                 air_turbulence_swept=None):
         if action_type not in ("stagnation", "orientation"):
             raise ValueError("action_type: expected stagnation or orientation, got '%s'"
                              % action_type)
@@ -149,7 +150,8 @@ class AirJetEnv:
                            integrator=str(integrator),
                            air_front_co_flow=float(air_front_co_flow),
                            air_front_counter_flow=float(air_front_counter_flow),
-                           air_turbulence_swept=bool(air_turbulence_swept))
+                           air_turbulence_swept=None if air_turbulence_swept is None
+                           else bool(air_turbulence_swept))
         self._vision = dict(vision=bool(vision), calib=calib or "", vision_rate_hz=vision_rate_hz,
                             noise_sigma_grey=noise_sigma_grey, blur_sigma_px=blur_sigma_px)
         self._calib_dir = None

@@ -61,6 +61,10 @@ const std::string& line_with_wide_start() {
     const size_t c = text.find(clearance);
     if (c == std::string::npos) throw std::runtime_error("scenes/line.yaml: no " + clearance);
     text.replace(c, clearance.size(), "  sweep_clearance_m: 0\n");
+    const std::string cheapest = "  keep_cheapest: true\n";
+    const size_t k = text.find(cheapest);
+    if (k == std::string::npos) throw std::runtime_error("scenes/line.yaml: no " + cheapest);
+    text.replace(k, cheapest.size(), "  keep_cheapest: false\n");
     const std::string file = scratch_dir("line_with_wide_start") + "/line.yaml";
     std::ofstream(file, std::ios::binary) << text;
     return file;

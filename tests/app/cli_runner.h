@@ -34,9 +34,10 @@ std::string mirror_flags();
 
 /// scenes/line.yaml with the wider CEM start the file had before it took the paper's (Sigma0
 /// 0.02 m^2 and a floor scan when the line search is blind) and without the later sweep
-/// clearance, the runs the tests' figures were measured on, written once per process into a
-/// scratch folder: in the mirror twin its tracer moves from the first decision (with the paper's
-/// settings its first push at seed 1 comes after 13 s), which tests of the first seconds need.
+/// clearance and cheapest candidate, the runs the tests' figures were measured on, written once per
+/// process into a scratch folder: in the mirror twin its tracer moves from the first decision (with
+/// the paper's settings its first push at seed 1 comes after 13 s), which tests of the first
+/// seconds need.
 const std::string& line_with_wide_start();
 
 }  // namespace airtwin::testing

@@ -68,12 +68,15 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
                                  "tracer:mass_g=0.176,mu_k=0.5 --out " + d + "/heavy.csv");
   ASSERT_EQ(heavy.exit_code, 0) << heavy.err;
   EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/heavy.csv"));
-  // The turbulence swept past the objects: another twin, the same for the same seed.
-  const std::string swept = quick + "--air-turbulence-swept --out " + d;
-  ASSERT_EQ(run_airtwin(swept + "/swept.csv").exit_code, 0);
-  ASSERT_EQ(run_airtwin(swept + "/swept2.csv").exit_code, 0);
-  EXPECT_EQ(read_text_file(d + "/swept.csv"), read_text_file(d + "/swept2.csv"));
-  EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/swept.csv"));
+  // The turbulence swept past the objects is the default's; the Lagrangian time alone another
+  // twin, the same for the same seed.
+  ASSERT_EQ(run_airtwin(quick + "--air-turbulence-swept --out " + d + "/swept.csv").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/phys.csv"), read_text_file(d + "/swept.csv"));
+  const std::string lagrangian = quick + "--no-air-turbulence-swept --out " + d;
+  ASSERT_EQ(run_airtwin(lagrangian + "/lagrangian.csv").exit_code, 0);
+  ASSERT_EQ(run_airtwin(lagrangian + "/lagrangian2.csv").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/lagrangian.csv"), read_text_file(d + "/lagrangian2.csv"));
+  EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/lagrangian.csv"));
 }
 
 TEST(CollectCli, TheImplicitIntegratorSurvivesTheTumbleThatStopsEuler) {
@@ -169,6 +172,8 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
                      "--air-front-counter-flow: expected [0, 2]");
   expect_usage_error("collect --air model --air-turbulence-swept --out x.csv",
                      "--air-turbulence-swept needs --air cfd");
+  expect_usage_error("collect --air-turbulence-swept --no-air-turbulence-swept --out x.csv",
+                     "excludes");
   expect_usage_error("collect --air cfd --table t.csv --out x.csv", "--table needs --air model");
   expect_usage_error("collect --drag eq8 --object-physics tracer:mu_k=0.4 --out x.csv",
                      "--object-physics: object physics 'tracer:mu_k=0.4': tracer.mu_k belongs to "

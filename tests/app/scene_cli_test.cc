@@ -254,11 +254,11 @@ TEST(SceneCli, RunNamesWhatAUserSceneLacks) {
   EXPECT_FALSE(std::ifstream(d + "/run/log.csv").good());
 }
 
-// line, cut to 4 s: one tracer, a run of ~0.2 s.
+// line, cut to 16 s: one tracer, which starts moving at 13 s in seed 1; a run of ~1 s.
 std::string short_line(const std::string& dir) {
-  const std::string path = dir + "/line_4s.yaml";
+  const std::string path = dir + "/line_16s.yaml";
   write(path,
-        replace_once(file_text(kScenes + "line.yaml"), "time_limit_s: 120", "time_limit_s: 4"));
+        replace_once(file_text(kScenes + "line.yaml"), "time_limit_s: 120", "time_limit_s: 16"));
   return path;
 }
 

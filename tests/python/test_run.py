@@ -146,19 +146,21 @@ def test_the_front_of_still_air_equals_the_cli_run(tmp_path):
         in stderr
 
 
-def test_the_swept_turbulence_equals_the_cli_run(tmp_path):
-    """air_turbulence_swept is --air-turbulence-swept to the byte in the physical twin, planning
-    with the models fitted to that twin as the CLI does; it changes the run; it needs the CFD's
-    air."""
+def test_the_lagrangian_turbulence_equals_the_cli_run(tmp_path):
+    """air_turbulence_swept=False is --no-air-turbulence-swept to the byte in the physical twin,
+    planning with the models fitted to that twin as the CLI does; it changes the run; True is
+    the default's and needs the CFD's air."""
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 4"))
     out = tmp_path / "run"
-    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--air-turbulence-swept", "--quiet",
-                                "--out", out)
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--no-air-turbulence-swept",
+                                "--quiet", "--out", out)
     assert status == 0, stderr
-    swept = airtwin.run_scenario(str(scenario), 1, air_turbulence_swept=True)
-    assert swept.log_csv() == (out / "log.csv").read_text()
-    assert swept.log_csv() != airtwin.run_scenario(str(scenario), 1).log_csv()
+    lagrangian = airtwin.run_scenario(str(scenario), 1, air_turbulence_swept=False)
+    assert lagrangian.log_csv() == (out / "log.csv").read_text()
+    default = airtwin.run_scenario(str(scenario), 1).log_csv()
+    assert lagrangian.log_csv() != default
+    assert airtwin.run_scenario(str(scenario), 1, air_turbulence_swept=True).log_csv() == default
     with pytest.raises(ValueError, match="air_turbulence_swept: needs the CFD's air"):
         airtwin.run_scenario(str(scenario), 1, air="model", air_turbulence_swept=True)
 

@@ -81,20 +81,21 @@ TEST(ScenarioRun, AStalledRunFailedStillForItsLastFiveSeconds) {
 }
 
 // The models planned with by default follow the twin: the physical one's own fitted models, the
-// swept turbulence's own, none (the paper's eq. (8)) elsewhere; and each named file reads.
+// Lagrangian-time twin's own, none (the paper's eq. (8)) elsewhere; and each named file reads.
 TEST(ScenarioRun, TheDefaultModelsAreTheTwinsOwn) {
   EXPECT_TRUE(default_controller_models(false, true).empty());
   EXPECT_TRUE(default_controller_models(true, false).empty());
-  EXPECT_TRUE(default_controller_models(false, false, true).empty());
+  EXPECT_TRUE(default_controller_models(false, false, false).empty());
   const std::vector<std::string> physical = default_controller_models(true, true);
-  const std::vector<std::string> swept = default_controller_models(true, true, true);
+  const std::vector<std::string> lagrangian = default_controller_models(true, true, false);
   ASSERT_EQ(physical.size(), 1u);
-  ASSERT_EQ(swept.size(), 1u);
+  ASSERT_EQ(lagrangian.size(), 1u);
+  EXPECT_EQ(physical, default_controller_models(true, true, true));
   EXPECT_NE(physical[0].find("/twin/extended_model.json"), std::string::npos);
-  EXPECT_NE(swept[0].find("/twin_swept/extended_model.json"), std::string::npos);
+  EXPECT_NE(lagrangian[0].find("/twin_lagrangian/extended_model.json"), std::string::npos);
   // Each is an extended model (the pressure push near s) whose tracer is not the paper's.
   const AirFieldModel field = AirFieldModel::with_constructed_table();
-  for (const std::vector<std::string>& files : {physical, swept}) {
+  for (const std::vector<std::string>& files : {physical, lagrangian}) {
     ScenarioRunOptions options;
     plan_with_model_files(files, field, &options);
     EXPECT_TRUE(options.planning_extensions.has_value()) << files[0];

@@ -63,6 +63,17 @@ void expect_same(const CemParameters& a, const CemParameters& b) {
   EXPECT_EQ(a.converged_variance_m2, b.converged_variance_m2);
   EXPECT_EQ(a.scan_step_m, b.scan_step_m);
   EXPECT_EQ(a.predict_transition, b.predict_transition);
+  EXPECT_EQ(a.sweep_clearance_m, b.sweep_clearance_m);
+  EXPECT_EQ(a.keep_cheapest, b.keep_cheapest);
+}
+
+// What every shipped file adds to the paper's search (docs/scenario_schema.md): J_P for a re-aim
+// sweeping past an object within delta_min, and the cheaper of the final mean and the cheapest
+// candidate.
+CemParameters with_shipped_additions(CemParameters p) {
+  p.sweep_clearance_m = 0.10;
+  p.keep_cheapest = true;
+  return p;
 }
 
 // The single-tracer files carry the paper's single-object CEM (section V-B), written out here
@@ -106,7 +117,7 @@ TEST(Scenario, LineIsThePapersShortestPathFromItsFirstPoint) {
   EXPECT_DOUBLE_EQ(s.task.switch_distance_m, 0.04);
   // 0.52 m every 0.10 m: 0.1 ... 0.5 and the end.
   EXPECT_EQ(path_references(s.task).size(), 6u);
-  expect_same(s.controller, single_object_cem());
+  expect_same(s.controller, with_shipped_additions(single_object_cem()));
   EXPECT_DOUBLE_EQ(s.loop.settle_s, 0.3);
 }
 
@@ -121,7 +132,7 @@ TEST(Scenario, SquareIsClosedWithThePapersLongestPerimeter) {
     EXPECT_NEAR((s.task.path_W[i] - s.task.path_W[i - 1]).norm(), 0.52, 0.01);
   }
   EXPECT_LT((s.scene.objects[0].p_W - s.task.path_W.front()).norm(), 1e-9);
-  expect_same(s.controller, single_object_cem());
+  expect_same(s.controller, with_shipped_additions(single_object_cem()));
 }
 
 TEST(Scenario, LetterAIsOnePolylineOfAboutOneAndAHalfMetres) {
@@ -140,6 +151,7 @@ TEST(Scenario, LetterAIsOnePolylineOfAboutOneAndAHalfMetres) {
   const Eigen::Vector2d left = (p[1] - p[0]).normalized();
   EXPECT_NEAR((p[4] - p[0]).normalized().dot(left), 1.0, 1e-3);
   EXPECT_NEAR(p[3].y(), p[4].y(), 1e-9);
+  expect_same(s.controller, with_shipped_additions(single_object_cem()));
 }
 
 TEST(Scenario, OctagonTakesFourTracersCornerToCorner) {
@@ -166,7 +178,7 @@ TEST(Scenario, OctagonTakesFourTracersCornerToCorner) {
   // The paper's multi-object line search, with the floor scanned every 10 cm when it is blind.
   CemParameters expected = CemParameters::line_defaults();
   expected.scan_step_m = 0.1;
-  expect_same(s.controller, expected);
+  expect_same(s.controller, with_shipped_additions(expected));
 }
 
 TEST(Scenario, AggregationScattersTwentyFiveTracersAroundTheZone) {
@@ -188,6 +200,8 @@ TEST(Scenario, AggregationScattersTwentyFiveTracersAroundTheZone) {
   EXPECT_EQ(s.controller.elite, paper.elite);
   EXPECT_EQ(s.controller.max_iterations, paper.max_iterations);
   EXPECT_EQ(s.controller.converged_variance_m2, paper.converged_variance_m2);
+  EXPECT_EQ(s.controller.sweep_clearance_m, 0.10);
+  EXPECT_TRUE(s.controller.keep_cheapest);
 }
 
 TEST(Scenario, SortingMixesThreeOfEachBetweenTwoZones) {
@@ -218,7 +232,7 @@ TEST(Scenario, SortingMixesThreeOfEachBetweenTwoZones) {
   expected.scan_step_m = 0.1;
   expected.variance0_m2 = 0.005;
   expected.predict_transition = true;
-  expect_same(s.controller, expected);
+  expect_same(s.controller, with_shipped_additions(expected));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -288,6 +302,10 @@ TEST(ScenarioDefaults, SortingStagesAreAutoNoneOrAList) {
                              "s.yaml")
                   .controller.predict_transition);
   EXPECT_DOUBLE_EQ(scanned.sweep_clearance_m, 0.0);
+  EXPECT_FALSE(scanned.keep_cheapest);
+  EXPECT_TRUE(
+      parse_scenario(std::string(kPathTask) + "controller: {keep_cheapest: true}\n", "s.yaml")
+          .controller.keep_cheapest);
   EXPECT_DOUBLE_EQ(
       parse_scenario(std::string(kPathTask) + "controller: {sweep_clearance_m: 0.15}\n", "s.yaml")
           .controller.sweep_clearance_m,
@@ -469,6 +487,8 @@ TEST(ScenarioErrors, SortingStagesAndScanNameTheKey) {
                "controller.predict_transition", "true");
   expect_error(std::string(kPathTask) + "controller: {sweep_clearance_m: -0.1}\n", 7,
                "controller.sweep_clearance_m", "0");
+  expect_error(std::string(kPathTask) + "controller: {keep_cheapest: 1.5}\n", 7,
+               "controller.keep_cheapest", "true");
 }
 
 TEST(ScenarioErrors, SyntaxErrorsAndUnreadableFilesAreOneLine) {
