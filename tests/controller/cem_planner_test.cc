@@ -760,16 +760,11 @@ TEST_F(CemPlannerTest, SweepClearanceBlockingEveryPushLeavesThePapersDecision) {
 // candidate"): four tracers near the corner at (0.21, -0.21) and the nozzle aimed 40 cm to their
 // left, so that the sweep clearance and delta_min make most of the ray's samples J_P.
 TEST_F(CemPlannerTest, KeepCheapestDecidesNoWorseThanTheSearchsSamples) {
-  const std::vector<Eigen::Vector2d> p = {
-      {0.213, -0.203}, {0.127, -0.156}, {0.156, -0.175}, {0.144, -0.112}};
-  const std::vector<Eigen::Vector2d> v(4, Eigen::Vector2d::Zero());
-  const std::vector<ObjectDynamics> xi(4, kTracerDynamics);
-  const std::vector<Eigen::Vector2d> r(4, Eigen::Vector2d(0.2121, -0.2121));
-  PlanningProblem pr;
-  pr.positions_W = p;
-  pr.velocities_W = v;
-  pr.dynamics = xi;
-  pr.references_W = r;
+  p_ = {{0.213, -0.203}, {0.127, -0.156}, {0.156, -0.175}, {0.144, -0.112}};
+  v_.assign(4, Eigen::Vector2d::Zero());
+  xi_.assign(4, kTracerDynamics);
+  r_.assign(4, Eigen::Vector2d(0.2121, -0.2121));
+  PlanningProblem pr = problem();
   pr.nozzle_now = *aim_at_stagnation(model_.geometry(), Eigen::Vector2d(-0.4, -0.1)).orientation;
   pr.pan_hint_rad = pr.nozzle_now->pan_rad;
   CemParameters params = CemParameters::line_defaults();
@@ -794,8 +789,8 @@ TEST_F(CemPlannerTest, KeepCheapestDecidesNoWorseThanTheSearchsSamples) {
     if (kept.cost < paper.cost) {
       ++improved;
       // A sample of the line search: on the ray from the anchor away from its reference.
-      const Eigen::Vector2d e = (p[3] - r[3]).normalized();
-      const Eigen::Vector2d d = kept.stagnation_W - p[3];
+      const Eigen::Vector2d e = (p_[3] - r_[3]).normalized();
+      const Eigen::Vector2d d = kept.stagnation_W - p_[3];
       EXPECT_NEAR(d.x() * e.y() - d.y() * e.x(), 0.0, 1e-12) << "seed " << seed;
     } else {
       EXPECT_EQ(kept.stagnation_W, paper.stagnation_W) << "seed " << seed;
