@@ -26,22 +26,21 @@
 //  - per-object weights and reaches in eq. (10):
 //      J = sum_j w_j || p_j^end - r_j || + kOutOfReachCost sum_j max(0, |p_j^end| - R_j),
 //    |p| measured from the point below the nozzle; w_j = 1 and R_j = infinity give eq. (10).
-//  - a scan before the plane search (scan_step_m > 0): eq. (10) on a square grid of that pitch
-//    over the disc of reachable stagnation points, coarse to fine (every other point first, then
-//    the full pitch around the three cheapest); the cheapest feasible point becomes mu0 instead
-//    of the objects' mean, and the decision is the cheaper of the search's final mean and that
-//    point. With objects spread over the floor the best push can be a metre from their mean,
-//    where a Gaussian of a few cm never samples. In the line search the same scan runs only when
-//    the search was blind: every feasible sample's cost within 1 mm of the others, i.e. the
-//    model moves nothing from anywhere on the ray (an object out where only the weak air
-//    upstream of an oblique jet's s would push it toward its reference). The elites are then
-//    the first draws and the mean a random walk. The scan, over every point at the pitch (a
-//    coarse grid's cheapest points would be only its first: the pushes that move such an
-//    object are few and near it), finds a push from another side, and the decision is the
-//    cheaper of the two. Such a rescue may not spread a group: a point whose predicted ends lie
-//    farther apart (largest pairwise distance) than the objects do now is passed over. Eq. (10)
-//    has no term for a group's cohesion, and the cheapest rescue often scattered the octagon's
-//    four tracers (docs/controller.md).
+//  - a scan before the plane search (scan_step_m > 0): eq. (10) on every point of a square grid
+//    of that pitch over the disc of reachable stagnation points; the cheapest feasible point
+//    becomes mu0 instead of the objects' mean, and the decision is the cheaper of the search's
+//    final mean and that point. With objects spread over the floor the best push can be a metre
+//    from their mean, where a Gaussian of a few cm never samples. Every point, not coarse to
+//    fine: the pushes that move an object without flinging it are few and near it, and a coarse
+//    grid's cheapest points are only its first (docs/controller.md). In the line search the same
+//    scan runs only when the search was blind: every feasible sample's cost within 1 mm of the
+//    others, i.e. the model moves nothing from anywhere on the ray (an object out where only the
+//    weak air upstream of an oblique jet's s would push it toward its reference). The elites are
+//    then the first draws and the mean a random walk. The scan finds a push from another side,
+//    and the decision is the cheaper of the two. Such a rescue may not spread a group: a point
+//    whose predicted ends lie farther apart (largest pairwise distance) than the objects do now
+//    is passed over. Eq. (10) has no term for a group's cohesion, and the cheapest rescue often
+//    scattered the octagon's four tracers (docs/controller.md).
 //
 // Cheapest seen (keep_cheapest, not in the paper): s* is the final mean (section V-A), which
 // the search never evaluated. When it stops unconverged with the elites on two sides of a ridge

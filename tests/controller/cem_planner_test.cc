@@ -464,9 +464,8 @@ TEST_F(CemPlannerTest, WeightsAndReachesShapeEquationTen) {
 // The scan: an object whose only useful push comes from far beyond it. A tracer 0.9 m out,
 // its reference 0.6 m farther out: s must lie on the near side, 0.2-0.5 m from it, i.e.
 // 0.4-0.7 m from the object's mean (the paper's mu0), where the paper's sigma of 5.6 cm never
-// samples. With the scan (coarse to fine) the decision is at least as cheap as the best point of
-// the full 10 cm grid (computed here with cost() on every point) and moves the tracer most of the
-// way.
+// samples. With the scan the decision is at least as cheap as the best point of the 10 cm grid
+// (computed here with cost() on every point) and moves the tracer most of the way.
 TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
   p_ = {{0.9, 0.0}};
   v_ = {{0.0, 0.0}};
@@ -500,6 +499,49 @@ TEST_F(CemPlannerTest, ScanFindsAPushFarFromTheObjectsMean) {
   // A pitch below 1 cm is refused.
   scanned.scan_step_m = 0.001;
   EXPECT_THROW(scanned.validate("x.yaml"), InputError);
+}
+
+// The scan with the sweep clearance: the points are ranked on their prediction and the clearance
+// is checked in that order only until the cheapest point it lets pass is found. Against every
+// point of the 10 cm grid costed with the clearance checked first (cost()): the decision is a
+// point the clearance lets pass, no dearer than the grid's best, while cheaper points of the grid
+// are blocked (the nozzle now aims below the second tracer's side, so the re-aims toward the far
+// tracer's good pushes sweep past it).
+TEST_F(CemPlannerTest, ScanChecksTheSweepInTheRankedOrder) {
+  p_ = {{0.9, 0.0}, {0.5, -0.3}};
+  v_ = {{0.0, 0.0}, {0.0, 0.0}};
+  xi_ = {kTracerDynamics, kTracerDynamics};
+  r_ = {{1.5, 0.0}, {0.5, -0.3}};
+  CemParameters params = CemParameters::plane_defaults();
+  params.scan_step_m = 0.1;
+  params.sweep_clearance_m = 0.10;
+  PlanningProblem pr = problem();
+  pr.nozzle_now = *aim_at_stagnation(model_.geometry(), Eigen::Vector2d(0.2, -0.6)).orientation;
+  pr.pan_hint_rad = pr.nozzle_now->pan_rad;
+  const CemPlanner planner(model_, params);
+  CemParameters unchecked = params;
+  unchecked.sweep_clearance_m = 0.0;
+  const CemPlanner open(model_, unchecked);
+  double grid_best = 1e9;
+  std::vector<double> blocked_costs;
+  const double r_max = max_stagnation_radius(model_.geometry());
+  for (int iy = -20; iy <= 20; ++iy) {
+    for (int ix = -20; ix <= 20; ++ix) {
+      const Eigen::Vector2d s(ix * 0.1, iy * 0.1);
+      if (s.norm() > r_max) continue;
+      const double c = planner.cost(pr, s);
+      grid_best = std::min(grid_best, c);
+      if (c >= params.penalty) blocked_costs.push_back(open.cost(pr, s));
+    }
+  }
+  RandomStream rng(1, RandomPurpose::kController, 0);
+  const PlanResult decision = planner.plan(pr, rng);
+  EXPECT_LT(decision.cost, params.penalty);
+  EXPECT_DOUBLE_EQ(planner.cost(pr, decision.stagnation_W), decision.cost);
+  EXPECT_LE(decision.cost, grid_best);
+  const auto cheaper = std::count_if(blocked_costs.begin(), blocked_costs.end(),
+                                     [&](double c) { return c < grid_best; });
+  EXPECT_GT(cheaper, 0) << "no cheaper point was blocked: the test shows nothing";
 }
 
 // predict_transition with the nozzle already at the candidate's orientation: no re-aim, nothing

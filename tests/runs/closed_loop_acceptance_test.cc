@@ -100,13 +100,14 @@ TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
 }
 
 // Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks
-// for 9 of 10, all six in their zones within 60 s (paper: 40 s). The physical twin sorts 8 of
-// seeds 1-10 (24 of 1-30), seeds 3 and 5 failing: CI asks 2 of its 3 seeds, the acceptance tier
-// 8 of 10. The median run within 1.5x the paper's time.
+// for 9 of 10, all six in their zones within 60 s (paper: 40 s). The physical twin sorts 9 of
+// seeds 1-10 (seed 5 fails; 28 of 1-30, 27 of 31-60) since its scan ranks every point of the
+// grid (8 of 10 coarse to fine): every CI seed, 9 of 10 in the acceptance tier. The median run
+// within 1.5x the paper's time.
 TEST(ClosedLoopAcceptance, SortingByTypeInStages) {
   const int n = seed_count();
   const Tally t = run_seeds("sorting", n);
-  EXPECT_GE(t.success, n >= 10 ? 8 : n - 1);
+  EXPECT_GE(t.success, required_successes(n));
   EXPECT_LE(t.median_time_s, 1.5 * 40.0);
   EXPECT_LE(t.worst_time_s, 60.0);
 }
