@@ -566,17 +566,19 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
     }
     ranked.resize(kept);
     double cheapest = std::numeric_limits<double>::infinity();
-    for (const auto& [plain_cost, s, command] : ranked) {
-      double c = plain_cost;
+    for (const Point& q : ranked) {
+      double c = q.cost;
       if (rerank) {
+        // The clearance let q pass above (the same clearance and servos as p's).
         bool feasible = false;
-        c = evaluate(model_, preds, p, problem, s, scratch, nullptr, &feasible);
+        c = evaluate(model_, preds, p, problem, q.s, scratch, nullptr, &feasible,
+                     /*check_sweep=*/false);
         result.evaluations += feasible ? 1 : 0;
         if (!feasible || spreads(keep_spread)) continue;
       }
       if (c < cheapest) {
         cheapest = c;
-        best = s;
+        best = q.s;
       }
       if (!rerank) break;  // ranked by the cost itself: the first is the cheapest
     }
