@@ -34,6 +34,9 @@ Subcommands (used by reaim.sh):
                              a visit against the twin's moving air: the largest share of the
                              visited tilt's air each point gets, by side and distance from its s
                              (from CASEDIR's probes while the run is not converted yet)
+STEADY_TO is a finished steady run's directory, or data:CASE: the converted transient CASE in
+DATADIR that starts from the steady state at the second tilt on the same mesh (its record before
+the turn), e.g. data:reaim_t22.5_t00.0_d40 for the air at 22.5 deg.
 Debian's /usr/bin/python3 with numpy only.
 """
 import json
@@ -403,14 +406,36 @@ def rise_times(t, g, levels=(0.25, 0.5, 0.75)):
     return out
 
 
-def cfd_ends(meta, t, u_cfd, steady_to_dir):
-    """The CFD's old air (its mean over the 50 ms before the turn) and new air (the steady run at
-    the second tilt, sampled at the probes)."""
-    ub = cmd_sample_steady(steady_to_dir)[:, :2]
+def before_turn(meta, t, u):
+    """A transient's air over the 50 ms before its turn: the steady state it started from."""
+    turn = meta["turn_start_s"]
+    return u[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0)
+
+
+def steady_air(spec, data_dir, meta):
+    """The steady air at the second tilt at the probes: from a finished steady run's directory, or,
+    given as data:CASE, from the converted transient CASE in data_dir that started from that
+    steady state on the same mesh (its record before its turn), so the committed data suffice."""
+    if not spec.startswith("data:"):
+        return cmd_sample_steady(spec)[:, :2]
+    name = spec[len("data:"):]
+    other = json.load(open(os.path.join(data_dir, name + ".json")))
+    def mesh(m):
+        return m.get("mesh_case") or m["case"]
+    if mesh(other) != mesh(meta) or other["from_deg"] != meta["to_deg"]:
+        sys.exit("reaim: %s does not start steady at %g deg on %s's mesh" %
+                 (name, meta["to_deg"], mesh(meta)))
+    t, _, u = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
+    return before_turn(other, t, u)
+
+
+def cfd_ends(meta, t, u_cfd, steady_to, data_dir):
+    """The CFD's old air (its mean over the 50 ms before the turn) and new air (the steady state at
+    the second tilt, steady_air())."""
+    ub = steady_air(steady_to, data_dir, meta)
     if ub.shape[0] != u_cfd.shape[1]:
         sys.exit("reaim: the steady case's probes are not the transient's")
-    turn = meta["turn_start_s"]
-    return u_cfd[(t > turn - 0.05) & (t <= turn + 1e-9)].mean(axis=0), ub
+    return before_turn(meta, t, u_cfd), ub
 
 
 def write_program(path, program, shift_s=0.0):
@@ -439,7 +464,7 @@ def twin_setup(airtwin, out_dir, meta, pts, dt):
 def cmd_compare(name, data_dir, steady_to_dir, airtwin, out_dir, png=None):
     meta = json.load(open(os.path.join(data_dir, name + ".json")))
     t, pts, u_cfd = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
-    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir, data_dir)
     turn = meta["turn_start_s"]
     os.makedirs(out_dir, exist_ok=True)
     # The twin's transit is the start-up's (the head of a jet starting into still air, in whole
@@ -580,7 +605,7 @@ def cmd_carried(name, data_dir, steady_to_dir, airtwin, out_dir):
     import airtwin as at  # the bindings beside the binary (build/python)
     meta = json.load(open(os.path.join(data_dir, name + ".json")))
     t, pts, u_cfd = read_floor_csv(os.path.join(data_dir, name + "_floor.csv"))
-    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir, data_dir)
     os.makedirs(out_dir, exist_ok=True)
     program_csv = write_program(os.path.join(out_dir, "program.csv"), meta["program"])
     dt = float(np.round(t[1] - t[0], 6))
@@ -663,7 +688,7 @@ def cmd_compare_visit(name, data_dir, case_dir, steady_to_dir, airtwin, out_dir,
         u_cfd = u_cfd[:, :, :2]
     if meta.get("kind") != "visit":
         sys.exit("reaim: %s is not a visit" % name)
-    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir)
+    ua_cfd, ub_cfd = cfd_ends(meta, t, u_cfd, steady_to_dir, data_dir)
     os.makedirs(out_dir, exist_ok=True)
     program_csv = write_program(os.path.join(out_dir, "program.csv"), meta["program"])
     dt = PROBE_DT
