@@ -419,7 +419,11 @@ def steady_air(spec, data_dir, meta):
     if not spec.startswith("data:"):
         return cmd_sample_steady(spec)[:, :2]
     name = spec[len("data:"):]
-    other = json.load(open(os.path.join(data_dir, name + ".json")))
+    path = os.path.join(data_dir, name + ".json")
+    if not os.path.exists(path) or not os.path.exists(os.path.join(data_dir, name + "_floor.csv")):
+        sys.exit("reaim: %s: no converted case %s (%s.json and %s_floor.csv) in %s" %
+                 (spec, name, name, name, data_dir))
+    other = json.load(open(path))
     def mesh(m):
         return m.get("mesh_case") or m["case"]
     if mesh(other) != mesh(meta) or other["from_deg"] != meta["to_deg"]:
