@@ -53,13 +53,12 @@ ObjectTypeParameters ObjectTypeParameters::cotton() {
   p.pressure_volume_m3 = 0.1 * (4.0 / 3.0 * kPi * r * r * r);  // 6.5e-6 m^3
   // Physical drag, calibrated as the tracer's (docs/twin.md). The wad flattened to 0.6 of its
   // width in z (sim/scene_builder.h) meets the air with ~0.6 pi r^2 = 1.2e-3 m^2; a fibre wad is
-  // porous, so its C_D lies below a solid bluff body's ~1 and above a sphere's 0.47: within
-  // [0.3, 1.2].
-  p.drag_coefficient = 0.9;
+  // porous, so its C_D lies below a solid bluff body's ~1: within [0.3, 1.2].
+  p.drag_coefficient = 0.6;
   p.frontal_area_m2 = 0.6 * kPi * r * r;
   p.drag_length_m = p.diameter_m;
   // Cotton fibres on a smooth hard floor: 0.3-0.6.
-  p.physical_kinetic_friction = 0.45;
+  p.physical_kinetic_friction = 0.3;
   p.physical_static_friction_ratio = 1.3;  // fibres on a hard floor
   // A porous wad: air passes through and under it, so little suction builds over it: within
   // [0, 0.3].
