@@ -100,10 +100,10 @@ TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
 }
 
 // Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks
-// for 9 of 10, all six in their zones within 60 s (paper: 40 s). The physical twin sorts 9 of
-// seeds 1-10 (seed 5 fails; 28 of 1-30, 27 of 31-60) since its scan ranks every point of the
-// grid (8 of 10 coarse to fine): every CI seed, 9 of 10 in the acceptance tier. The median run
-// within 1.5x the paper's time.
+// for 9 of 10, all six in their zones within 60 s (paper: 40 s). The physical twin sorts at a
+// rate of 55 in 60 (seeds 1-60); with the wads calibrated again (2026-11-28) seeds 1-10 give 8
+// (4 and 6 fail), so the acceptance tier's 9 of 10, the issue's target, is missed in this draw
+// and reported so. Every CI seed. The median run within 1.5x the paper's time.
 TEST(ClosedLoopAcceptance, SortingByTypeInStages) {
   const int n = seed_count();
   const Tally t = run_seeds("sorting", n);
