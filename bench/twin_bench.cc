@@ -7,14 +7,15 @@
 // (qpos, qvel, warm start, time) is copied into a bare mjData of the same mjModel, which then
 // takes one plain mj_step with no air registered (the dispatcher pushes nothing): the same
 // configuration, contacts and velocities, minus the air and the twin's bookkeeping. That pair
-// gives `ratio`. A third mjData takes the same plain mj_step from the same state with the twin's
-// air as given generalized forces (qfrc_applied: the twin's qfrc_passive of that step less the
-// bare step's): MuJoCo doing the twin's physics, the objects sliding as the air pushes them,
-// without airtwin's code (`ratio_forced`: what the twin's own work costs; `ratio` also counts
-// the extra constraint work the air's pushes cause MuJoCo). Then the bare data runs a chunk on
-// its own from the twin's state (`ratio_free`):
-// without air its objects slow down and stop, so its solver has less to do than the twin's. A
-// twin that has run kEpisode_s seconds is rebuilt (untimed), so the objects stay in view.
+// gives `ratio`; its order alternates step by step, since the step that runs second finds the
+// caches the first left (`ratio_twin_first` and `ratio_bare_first` keep each order's). A third
+// mjData takes the same plain mj_step from the same state with the twin's air as given generalized
+// forces (qfrc_applied: the twin's qfrc_passive of that step less the bare step's): MuJoCo doing
+// the twin's physics, the objects sliding as the air pushes them, without airtwin's code
+// (`ratio_forced`: what the twin's own work costs; `ratio` also counts the extra constraint work
+// the air's pushes cause MuJoCo). Then the bare data runs a chunk on its own from the twin's state
+// (`ratio_free`): without air its objects slow down and stop, so its solver has less to do than the
+// twin's. A twin that has run kEpisode_s seconds is rebuilt (untimed), so the objects stay in view.
 //
 // Scenes (default TwinParameters: 2.5 ms step, turbulence, pressure push, stiction; jet settled):
 //   BM_TwinStep/tracers_25:  25 tracers scattered over ~1.2 x 1.2 m, the nozzle re-aimed every
@@ -38,8 +39,9 @@
 //                            default carried by the old air (--air-front-co-flow 0): the
 //                            reference the carried front's cost is read against.
 // Counters: steps_per_s (twin), bare_steps_per_s (mirrored), rtf (simulated s per wall s, twin),
-// ratio (twin / mirrored bare step rate; the target is >= 0.8 with rtf >= 10 on the
-// 25-tracer scene), ratio_forced (twin / mirrored bare step under the twin's air as applied
+// ratio (twin / mirrored bare step rate, both orders of the pair; the target is >= 0.8
+// with rtf >= 10 on the 25-tracer scene), ratio_twin_first and ratio_bare_first (each order's
+// alone), ratio_forced (twin / mirrored bare step under the twin's air as applied
 // forces), ratio_free (twin / free-running bare step rate), solver_iter, bare_solver_iter and
 // forced_solver_iter (MuJoCo's constraint-solver iterations per step).
 
@@ -174,7 +176,8 @@ void run(benchmark::State& state, const SceneSpec& spec,
   std::vector<SceneObject> objects;
   for (size_t i = 0; i < twin.object_count(); ++i) objects.push_back(twin.object(i));
   AirForces air(params.air, params.scene, objects, 7, timestep_s);
-  double twin_s = 0.0, bare_s = 0.0, forced_s = 0.0, free_s = 0.0, air_s = 0.0;
+  double forced_s = 0.0, free_s = 0.0, air_s = 0.0;
+  double pair_twin_s[2] = {0.0, 0.0}, pair_bare_s[2] = {0.0, 0.0};  // [bare first, twin first]
   int64_t steps = 0, twin_iter = 0, bare_iter = 0, forced_iter = 0;
   for (auto _ : state) {
     // Twin, step by step, each step mirrored by a bare step from the same state.
@@ -183,13 +186,22 @@ void run(benchmark::State& state, const SceneSpec& spec,
       if (target.pan_rad != twin.commanded_orientation().pan_rad) twin.command_nozzle(target);
       copy_state(m, twin.data(), bare.get());
       copy_state(m, twin.data(), forced.get());
+      // The pair's order alternates step by step: the step that runs second finds the caches
+      // the first left, and each order's ratio is kept apart to show how much that weighs.
+      const bool twin_first = (steps + k) % 2 == 0;
+      if (!twin_first) {
+        const auto b0 = Clock::now();
+        mj_step(m, bare.get());
+        pair_bare_s[0] += seconds(b0, Clock::now());
+      }
       const auto t0 = Clock::now();
       twin.step();
       const auto t1 = Clock::now();
-      mj_step(m, bare.get());
-      const auto t2 = Clock::now();
-      twin_s += seconds(t0, t1);
-      bare_s += seconds(t1, t2);
+      pair_twin_s[twin_first ? 1 : 0] += seconds(t0, t1);
+      if (twin_first) {
+        mj_step(m, bare.get());
+        pair_bare_s[1] += seconds(t1, Clock::now());
+      }
       twin_iter += twin.data()->solver_iter;
       bare_iter += bare->solver_iter;
       // Both steps left their passive forces of the same starting state in qfrc_passive: the
@@ -231,6 +243,10 @@ void run(benchmark::State& state, const SceneSpec& spec,
     }
   }
   const double n = static_cast<double>(steps);
+  const double twin_s = pair_twin_s[0] + pair_twin_s[1];
+  const double bare_s = pair_bare_s[0] + pair_bare_s[1];
+  state.counters["ratio_bare_first"] = pair_bare_s[0] / pair_twin_s[0];
+  state.counters["ratio_twin_first"] = pair_bare_s[1] / pair_twin_s[1];
   state.counters["steps_per_s"] = n / twin_s;
   state.counters["bare_steps_per_s"] = n / bare_s;
   state.counters["rtf"] = n / twin_s * twin.timestep();

@@ -113,7 +113,6 @@ TEST(TwinCalibration, RepeatabilityFromOneStartIsNearThePapers) {
   EXPECT_LT(mape, 7.7 * 2);
 }
 
-
 // The physical twin, as every command builds it (the CFD's air, physical drag with the calibrated
 // parameters; docs/twin.md, "Physical drag"): its Appendix D collection of seed 202 (held out from
 // the calibration's seed 101) is the one scripts/fit_twin_models.sh identifies the controller's
