@@ -78,9 +78,11 @@ floor_of() {
     # 29/30 on seeds 31-60); floors at those rates less one in ten (regression floors).
     line | square | letter_A | octagon | aggregation) echo 0.9 ;;
     sorting) echo 0.8 ;;
-    # With vision, seeds 1-10 (docs/twin.md, the default twin's Table I with vision): the paths,
-    # the aggregation and the sorting 10/10, the octagon 10/10 (with the blind search's rescue);
-    # less one in ten.
+    # With vision, seeds 1-10 (docs/twin.md, the default twin's Table I with vision, the camera's
+    # low noise): the paths, the aggregation and the sorting 10/10, the octagon 10/10 (with the
+    # blind search's rescue); less one in ten. This sweep's camera has no noise: the octagon 9/10
+    # (seed 1 stalled) and the sorting 8/10 (seeds 2, 6) on 2026-11-28, the sorting under the
+    # issue's 9 of 10, which stays its floor.
     line_vision | square_vision | letter_A_vision | octagon_vision | aggregation_vision) echo 0.9 ;;
     sorting_vision) echo 0.9 ;;
     # The mirror (--air model --drag eq8, the constructed table), seeds 1-30 with the paper's CEM in the path files:
@@ -90,25 +92,30 @@ floor_of() {
     letter_A_mirror) echo 0.85 ;;
     aggregation_mirror | sorting_mirror) echo 0.9 ;;
     # The physical twin over seeds 1-10 (docs/twin.md), the model identified in the same twin,
-    # less one run in ten. Regression floors, not targets. The defaults (the formation at the
-    # pulses' times x 0.5, the front carried): line 3, square 1, letter A 0, octagon 2 of 10.
-    line_physical) echo 0.2 ;;
+    # less one run in ten. Regression floors, not targets. Measured 2026-11-28 in the present
+    # twin (the swept turbulence, the wads calibrated again), the defaults (the formation at
+    # the pulses' times x 0.5, the front carried): line 2, square 0, letter A 0, octagon 0 of 10
+    # (2026-11-27, before the swept turbulence: 3, 1, 0, 2).
+    line_physical) echo 0.1 ;;
     square_physical) echo 0 ;;
     letter_A_physical) echo 0 ;;
-    octagon_physical) echo 0.1 ;;
+    octagon_physical) echo 0 ;;
     # The multi-object tasks there (--multi): the aggregation as the file ships it 10/10; with
-    # the paper's settings and the sorting 0/10 (docs/twin.md): recorded, no floor yet.
+    # the paper's settings 0/10, the sorting 2/10 (docs/twin.md).
     aggregation_physical) echo 0.9 ;;
-    aggregation_paper_physical | sorting_physical) echo 0 ;;
-    # Without the formation (--no-formation): line 2, square 0, letter A 0, octagon 1 of 10.
+    aggregation_paper_physical) echo 0 ;;
+    sorting_physical) echo 0.1 ;;
+    # Without the formation (--no-formation): line 2, square 0, letter A 0, octagon 1 of 10
+    # (2026-11-28; the same on 2026-11-27).
     line_physical_no_formation) echo 0.1 ;;
     square_physical_no_formation | letter_A_physical_no_formation) echo 0 ;;
     octagon_physical_no_formation) echo 0 ;;
-    # With the front of still air (--still-front): line 3, square 2, letter A 0, octagon 3.
-    line_physical_still_front) echo 0.2 ;;
-    square_physical_still_front) echo 0.1 ;;
+    # With the front of still air (--still-front): line 1, square 0, letter A 0, octagon 2
+    # (2026-11-28; 3, 2, 0, 3 on 2026-11-27).
+    line_physical_still_front) echo 0 ;;
+    square_physical_still_front) echo 0 ;;
     letter_A_physical_still_front) echo 0 ;;
-    octagon_physical_still_front) echo 0.2 ;;
+    octagon_physical_still_front) echo 0.1 ;;
     # Planning with the extended model from the discrepancy analysis of closed-loop logs of
     # seeds 101-105 (--discrepancy): 10/10 each, the issue's target 9 of 10.
     line_physical_extended | square_physical_extended) echo 0.9 ;;
