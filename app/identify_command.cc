@@ -75,6 +75,14 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
     for (const auto& [tilt, mape] : m.end_position_mape_by_tilt_pct)
       std::printf("; %g deg: %.1f%%", tilt, mape);
   }
+  if (!m.moved_by_tilt.empty()) {
+    std::printf("\n  set in motion (moved at least 1 cm):");
+    const char* sep = " ";
+    for (const auto& [tilt, counts] : m.moved_by_tilt) {
+      std::printf("%s%g deg %zu of %zu", sep, tilt, counts.first, counts.second);
+      sep = "; ";
+    }
+  }
   std::printf("\n  written to %s\n", out.c_str());
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/units.h"
 #include "models/fast_predictor.h"
 
 namespace airtwin {
@@ -60,6 +61,13 @@ IdentifiedModel identify_trajectories(const TrajectorySet& set, const std::strin
   SpeedPairReport rep;
   const SpeedPairs d = speed_pairs_from_trajectories(selected, field, o.pairs, &rep);
   IdentifiedModel m = from_sindy(identify_sindy(d, o.sindy), rep, d, object, o);
+  for (const Trajectory& tr : selected.trajectories) {
+    if (tr.samples.empty()) continue;
+    const double tilt_deg = std::round(rad_to_deg(tr.samples.front().nozzle.tilt_rad) * 1e3) / 1e3;
+    auto& [moved, all] = m.moved_by_tilt[tilt_deg];
+    ++all;
+    if ((tr.samples.back().p_W - tr.samples.front().p_W).norm() >= o.replay.min_travel_m) ++moved;
+  }
 
   // The paper's check: predict every trajectory from its first sample, compare the end.
   if (m.is_eq8()) {

@@ -79,6 +79,10 @@ std::string identified_model_json(const IdentifiedModel& m) {
   j["end_position_mape_by_tilt"] = by_tilt;
   j["n_mape_trajectories"] = m.n_mape_trajectories;
   j["n_mape_excluded"] = m.n_mape_excluded;
+  json moved = json::object();
+  for (const auto& [tilt, counts] : m.moved_by_tilt)
+    moved[tilt_key(tilt)] = {counts.first, counts.second};
+  j["moved_by_tilt"] = moved;
   j["n_pairs"] = m.n_pairs;
   j["n_trajectories"] = m.n_trajectories;
   j["n_glitches_repaired"] = m.n_glitches_repaired;

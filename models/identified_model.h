@@ -16,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "models/object_dynamics.h"
@@ -40,6 +41,11 @@ struct IdentifiedModel {
   size_t n_off_radial = 0, n_transient = 0;  ///< moving samples not used (docs/identification.md)
   double transient_s = 0.0;                  ///< the --skip-transient setting
   size_t n_mape_trajectories = 0, n_mape_excluded = 0;
+  /// Tilt (deg, the first sample's, to 1e-3) -> {trajectories whose last position is at least
+  /// ReplayOptions::min_travel_m from their first, all trajectories}: which placements the air set
+  /// in motion (Appendix D placed its objects where "air velocity is sufficient to set the
+  /// objects in motion"). Trajectory data only.
+  std::map<double, std::pair<size_t, size_t>> moved_by_tilt;
   double dt_s = 0.0;
   double lambda = 0.0;
   /// The library terms the regression was allowed (SindyOptions::terms); all ten by default.

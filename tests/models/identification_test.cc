@@ -37,6 +37,18 @@ TEST(Identification, TracerTrajectoriesGiveTheTracerModelAndASmallMape) {
   EXPECT_EQ(m.n_mape_trajectories + m.n_mape_excluded, 60u);  // some never move
   EXPECT_GE(m.n_mape_trajectories, 45u);
   EXPECT_EQ(m.end_position_mape_by_tilt_pct.size(), 2u);
+  // Which placements moved, per tilt: every trajectory counted once, and the moving ones are
+  // those the replay kept (it drops the ones that travelled under 1 cm from their fitted start).
+  ASSERT_EQ(m.moved_by_tilt.size(), 2u);
+  size_t moved = 0, all = 0;
+  for (const auto& [tilt, counts] : m.moved_by_tilt) {
+    EXPECT_LE(counts.first, counts.second) << tilt;
+    moved += counts.first;
+    all += counts.second;
+  }
+  EXPECT_EQ(all, 60u);
+  EXPECT_EQ(moved, m.n_mape_trajectories);
+  EXPECT_NE(identified_model_json(m).find("\"moved_by_tilt\""), std::string::npos);
   EXPECT_EQ(m.bootstraps, 15);
   EXPECT_EQ(m.smoothing_half_window, 4);
 
