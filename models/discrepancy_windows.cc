@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "common/errors.h"
-#include "common/units.h"
 #include "models/trajectory_replay.h"
 
 namespace airtwin::discrepancy_detail {
@@ -47,9 +46,9 @@ WindowSet make_windows(const TrajectorySet& set,
     commands.push_back({s.front().t_s, s.front().nozzle});
     for (size_t k = 1; k < s.size(); ++k) {
       if (!same_command(s[k].nozzle, s[k - 1].nozzle)) commands.push_back({s[k].t_s, s[k].nozzle});
-      ws.tilts_deg.insert(std::round(rad_to_deg(s[k].nozzle.tilt_rad) * 1e3) / 1e3);
+      ws.tilts_deg.insert(tilt_group_deg(s[k].nozzle.tilt_rad));
     }
-    ws.tilts_deg.insert(std::round(rad_to_deg(s.front().nozzle.tilt_rad) * 1e3) / 1e3);
+    ws.tilts_deg.insert(tilt_group_deg(s.front().nozzle.tilt_rad));
     ws.timelines.push_back(std::make_unique<NozzleTimeline>(o.nozzle, commands, s.back().t_s));
     const NozzleTimeline* timeline = ws.timelines.back().get();
 

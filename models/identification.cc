@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "common/errors.h"
-#include "common/units.h"
 #include "models/fast_predictor.h"
 
 namespace airtwin {
@@ -63,7 +62,7 @@ IdentifiedModel identify_trajectories(const TrajectorySet& set, const std::strin
   IdentifiedModel m = from_sindy(identify_sindy(d, o.sindy), rep, d, object, o);
   for (const Trajectory& tr : selected.trajectories) {
     if (tr.samples.empty()) continue;
-    const double tilt_deg = std::round(rad_to_deg(tr.samples.front().nozzle.tilt_rad) * 1e3) / 1e3;
+    const double tilt_deg = tilt_group_deg(tr.samples.front().nozzle.tilt_rad);
     auto& [moved, all] = m.moved_by_tilt[tilt_deg];
     ++all;
     if ((tr.samples.back().p_W - tr.samples.front().p_W).norm() >= o.replay.min_travel_m) ++moved;

@@ -11,6 +11,8 @@
 
 namespace airtwin {
 
+double tilt_group_deg(double tilt_rad) { return std::round(rad_to_deg(tilt_rad) * 1e3) / 1e3; }
+
 const std::set<std::string>& default_object_types() {
   static const std::set<std::string> types = {"tracer", "cotton"};
   return types;

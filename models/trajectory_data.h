@@ -38,6 +38,10 @@ struct TrajectorySet {
 /// The object types the project knows unless told otherwise.
 const std::set<std::string>& default_object_types();
 
+/// A nozzle tilt as data are grouped by it (per-tilt figures, JSON keys): degrees rounded to
+/// 1e-3, so that a command read back from CSV falls in the tilt it was written as.
+double tilt_group_deg(double tilt_rad);
+
 /// Reads and validates a trajectory CSV: header, finite numbers, tilt in [0, 90) deg, known object
 /// types, one object type per trajectory, time strictly increasing within a trajectory, at least
 /// one row. Every problem is an InputError naming the file, the line and the column.

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "common/errors.h"
-#include "common/units.h"
 
 namespace airtwin {
 
@@ -54,7 +53,7 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
       continue;
     }
     const double t0 = s.front().t_s;
-    out.tilt_deg = std::round(rad_to_deg(s.front().nozzle.tilt_rad) * 1e3) / 1e3;
+    out.tilt_deg = tilt_group_deg(s.front().nozzle.tilt_rad);
     out.measured_end_W = s.back().p_W;
     out.start_W = start_state(s).p_W;
     out.travel_m = (s.back().p_W - out.start_W).norm();
