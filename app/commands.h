@@ -25,5 +25,6 @@ void add_calibrate_command(CLI::App& app);  // camera model from calibration-tar
 void add_detect_command(CLI::App& app);     // detection + tracking on frames -> detections.csv
 void add_discrepancy_command(CLI::App& app);   // model vs data: causes, extended model, gain
 void add_trajectories_command(CLI::App& app);  // detections + nozzle log -> trajectory CSV
+void add_region_command(CLI::App& app);        // where the line search's pushes move objects
 
 }  // namespace airtwin::cli

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   airtwin::cli::add_detect_command(app);
   airtwin::cli::add_trajectories_command(app);
   airtwin::cli::add_discrepancy_command(app);
+  airtwin::cli::add_region_command(app);
 
   try {
     app.parse(argc, argv);

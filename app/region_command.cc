@@ -1,0 +1,150 @@
+// airtwin region: the feasible manipulation region (runs/manipulation_region.h) by the model the
+// controller plans with and, with --twin, by the twin: which pushes of the paper's line search
+// move an object at rest, over a grid of the floor and every direction.
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/progress.h"
+#include "app/run_setup.h"
+#include "common/csv.h"
+#include "common/errors.h"
+#include "runs/manipulation_region.h"
+
+namespace airtwin::cli {
+namespace {
+
+struct RegionArgs {
+  RegionOptions options;
+  RunSetupFlags setup;
+  bool twin = false;
+  bool quiet = false;
+  std::string out;
+};
+
+constexpr std::initializer_list<FlagOf> kRegionFlags = {{"region.object", "--object"},
+                                                        {"region.extent_m", "--extent"},
+                                                        {"region.step_m", "--step"},
+                                                        {"region.directions", "--directions"},
+                                                        {"region.distance_m", "--distance"},
+                                                        {"region.horizon_s", "--horizon"},
+                                                        {"region.min_travel_m", "--min-travel"},
+                                                        {"region.settle_s", "--settle"},
+                                                        {"region.threads", "--threads"}};
+
+void print_judgement(const char* judge, const RegionJudgement& j, int points) {
+  std::printf("%-6s moved %4d of %4d pushes;", judge, j.all.moved, j.all.of);
+  for (const PushClassInfo& c : kPushClasses) {
+    const RegionTally& t = j.by_class[static_cast<size_t>(c.id)];
+    std::printf(" %s %d/%d", c.name, t.moved, t.of);
+  }
+  std::printf("; every direction at %d of %d points\n", j.region_points, points);
+}
+
+void run_region(const RegionArgs& a) {
+  const RegionOptions& o = a.options;
+  with_flags(kRegionFlags, [&] { o.validate(); });
+  check_run_setup_flags(a.setup);
+  const AirFieldModel field = field_model_of(a.setup);
+  const ScenarioRunOptions run = run_options_of(a.setup);
+  const auto xi = run.dynamics.find(o.object);
+  if (xi == run.dynamics.end()) {
+    throw InputError("--model: no model for object type '" + o.object + "'");
+  }
+  // The controller's prediction: its field (an extended model's scaled one), the paper's CEM
+  // settings with this horizon, the extended model's extensions when it has any.
+  const AirFieldModel& planning = run.planning_field ? *run.planning_field : field;
+  CemParameters params;
+  params.horizon_s = o.horizon_s;
+  const CemPlanner planner(planning, params, {}, run.planning_extensions);
+
+  std::vector<RegionPush> pushes = plan_region(o, planning.geometry());
+  predict_region(&pushes, planner, xi->second);
+  if (a.twin) {
+    std::unique_ptr<Progress> progress;
+    int reachable = 0;
+    for (const RegionPush& p : pushes) reachable += p.reachable() ? 1 : 0;
+    if (!a.quiet) progress = std::make_unique<Progress>("region", "pushes", reachable);
+    run_region_in_twin(&pushes, o, run.twin, field, [&](int done, int) {
+      if (progress) progress->update(done);
+    });
+    if (progress) progress->finish();
+  }
+  const RegionSummary s = summarize_region(pushes, o);
+  std::filesystem::create_directories(a.out);
+  write_text_file(a.out + "/region.csv", region_csv(pushes));
+  write_text_file(a.out + "/region.json", region_json(s, o));
+  write_region_png(pushes, s, o, a.out + "/region.png");
+
+  std::printf(
+      "%s at rest, s %.1f cm behind it, held %.2f s: %d points x %d directions, %d pushes "
+      "the nozzle can aim\n",
+      o.object.c_str(), 100.0 * o.distance_m, o.horizon_s, s.points, o.directions, s.reachable);
+  if (s.model) print_judgement("model", *s.model, s.points);
+  if (s.twin) print_judgement("twin", *s.twin, s.points);
+  if (s.model && s.twin) {
+    std::printf(
+        "both moved it %d, the model only %d (deluded), the twin only %d (blind), "
+        "neither %d\n",
+        s.both, s.model_only, s.twin_only, s.neither);
+  }
+  std::printf("wrote %s/region.csv, region.json, region.png\n", a.out.c_str());
+}
+
+}  // namespace
+
+void add_region_command(CLI::App& app) {
+  auto args = std::make_shared<RegionArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "region",
+      "The feasible manipulation region (section V-C): on a grid of the floor, for each of N\n"
+      "directions, the paper's line search's push (s a distance D behind an object at rest,\n"
+      "held Delta T) and whether it moves the object at least --min-travel along the direction:\n"
+      "by the model the controller plans with (its prediction) and, with --twin, by the twin\n"
+      "(the object released into that orientation's steady air). Writes DIR/region.csv (a row\n"
+      "per push), region.json (counts: all, away from / across / toward the point below the\n"
+      "nozzle, the points every direction moves, where the judges disagree) and region.png.\n"
+      "docs/controller.md.");
+  RegionOptions& o = args->options;
+  sub->add_option("--object", o.object, "tracer | cotton")->capture_default_str();
+  sub->add_option("--extent", o.extent_m, "The grid covers [-E, E]^2 (m)")->capture_default_str();
+  sub->add_option("--step", o.step_m, "Grid spacing (m)")->capture_default_str();
+  sub->add_option("--directions", o.directions, "Push directions per point")->capture_default_str();
+  sub->add_option("--distance", o.distance_m,
+                  "D: s this far behind the object (m; the paper's mu0 41.8 cm)")
+      ->capture_default_str();
+  sub->add_option("--horizon", o.horizon_s, "Delta T: how long each push is held (s)")
+      ->capture_default_str();
+  sub->add_option("--min-travel", o.min_travel_m,
+                  "A push moved the object when it went this far along its direction (m)")
+      ->capture_default_str();
+  sub->add_flag("--twin", args->twin, "Also push every object in the twin");
+  sub->add_option("--settle", o.settle_s,
+                  "With --twin: seconds the object rests, jet off, before its release")
+      ->capture_default_str();
+  sub->add_option("--seed", o.seed, "With --twin: seed of each trial's turbulence and shape")
+      ->capture_default_str();
+  sub->add_option("--threads", o.threads, "With --twin: twins in parallel (0: one per core)")
+      ->capture_default_str();
+  RunSetupFlags& f = args->setup;
+  sub->add_option("--table", f.table,
+                  std::string("The controller's air model (and with --air model the twin's); ") +
+                      kDefaultFieldModelHelp);
+  sub->add_option("--model", f.models,
+                  "model.json from 'airtwin identify' or extended_model.json from 'airtwin\n"
+                  "discrepancy' (repeatable): the dynamics the controller predicts with\n"
+                  "(default: as 'run', the models fitted to the physical twin)");
+  sub->add_option("--effect", f.effects,
+                  "With --twin: a physical effect switched on in the twin, NAME:k=v,...");
+  add_air_flags(sub, f.air);
+  sub->add_flag("--quiet", args->quiet, "No progress on stderr");
+  sub->add_option("--out", args->out, "Output folder")->required();
+  sub->callback([args] { run_region(*args); });
+}
+
+}  // namespace airtwin::cli
