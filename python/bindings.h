@@ -34,6 +34,8 @@ pybind11::array_t<std::uint8_t> rgb_frame(FrameRenderer& renderer, const mjData*
 
 /// probe_air(): the twin's moving air at fixed floor points over a nozzle program.
 void bind_probe(pybind11::module_& m);
+/// manipulation_region() and Region: where the line search's pushes move an object.
+void bind_region(pybind11::module_& m);
 
 /// run_scenario and RunResult: a closed-loop run as `airtwin run` runs it.
 void bind_run(pybind11::module_& m);

@@ -16,6 +16,7 @@ PYBIND11_MODULE(_core, m) {
   airtwin::python::bind_planner(m);
   airtwin::python::bind_run(m);
   airtwin::python::bind_probe(m);
+  airtwin::python::bind_region(m);
   // The shipped scenario files (airtwin.env's task names).
   m.attr("SCENES_DIR") = AIRTWIN_SCENES_DIR;
 }

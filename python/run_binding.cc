@@ -43,32 +43,14 @@ struct RunResult {
   double time_limit_s = 0.0;
 };
 
-// What the controller plans with, as `--table` and `--model` set it: the field model (the twin's
-// analytical air too) and the model files.
-struct ControllerSetup {
-  std::string table;                ///< "": the default model, fitted to the CFD
-  std::vector<std::string> models;  ///< empty: default_controller_models of the twin
-};
-
-// The model files the controller plans with: its own, or those fitted to the twin `setup` builds.
-std::vector<std::string> models_of(const ControllerSetup& controller, const TwinSetup& setup) {
-  if (!controller.models.empty()) return controller.models;
-  return default_controller_models(setup.air == "cfd", setup.drag == "physical",
-                                   setup.air_turbulence_swept.value_or(true));
-}
-
-AirFieldModel field_model_of(const ControllerSetup& setup) {
-  return setup.table.empty() ? AirFieldModel::fitted_to_cfd() : read_air_field_model(setup.table);
-}
-
 RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
               const ControllerSetup& controller) {
   const Scenario scenario = read_scenario(scenario_path);
-  const AirFieldModel field = field_model_of(controller);
+  const AirFieldModel field = controller_field_model(controller);
   ScenarioRunOptions options;
   options.seed = seed;
   options.twin = twin_parameters(setup, scenario);
-  plan_with_model_files(models_of(controller, setup), field, &options);
+  plan_with_model_files(controller_models(controller, setup), field, &options);
   py::gil_scoped_release release;
   return {run_scenario(scenario, field, options), scenario.task.time_limit_s};
 }
@@ -81,10 +63,10 @@ class PyEpisode {
             const ControllerSetup& controller, bool vision, const std::string& calib,
             const std::string& calib_dir, double vision_rate_hz, double noise_sigma_grey,
             double blur_sigma_px)
-      : scenario_(read_scenario(scenario_path)), field_(field_model_of(controller)) {
+      : scenario_(read_scenario(scenario_path)), field_(controller_field_model(controller)) {
     options_.seed = seed;
     options_.twin = twin_parameters(setup, scenario_);
-    plan_with_model_files(models_of(controller, setup), field_, &options_);
+    plan_with_model_files(controller_models(controller, setup), field_, &options_);
     py::gil_scoped_release release;
     if (vision) {
       options_.vision.rate_hz = vision_rate_hz;

@@ -3,6 +3,8 @@
 #include <mutex>
 
 #include "common/errors.h"
+#include "models/field_model_file.h"
+#include "runs/scenario_run.h"
 #include "sim/effects.h"
 #include "sim/object_physics.h"
 #include "sim/scene_builder.h"
@@ -20,6 +22,18 @@ std::shared_ptr<const CfdField> shipped_cfd() {
 }
 
 }  // namespace
+
+std::vector<std::string> controller_models(const ControllerSetup& controller,
+                                           const TwinSetup& setup) {
+  if (!controller.models.empty()) return controller.models;
+  return default_controller_models(setup.air == "cfd", setup.drag == "physical",
+                                   setup.air_turbulence_swept.value_or(true));
+}
+
+AirFieldModel controller_field_model(const ControllerSetup& controller) {
+  return controller.table.empty() ? AirFieldModel::fitted_to_cfd()
+                                  : read_air_field_model(controller.table);
+}
 
 TwinParameters twin_parameters(const TwinSetup& setup, const Scenario& scenario) {
   TwinParameters params;

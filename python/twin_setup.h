@@ -1,5 +1,6 @@
 #pragma once
-// The twin's set-up as Python callers give it, for Twin and the environment alike: the options
+// The twin's and the controller's set-up as Python callers give them, for Twin, the runs and the
+// environment alike. The twin's: the options
 // `airtwin run` and the other commands take as --air, --cfd, --drag, --object-physics, --effect,
 // --mjcf, --air-formation / --no-air-formation, --air-formation-time-scale, --integrator,
 // --air-front-co-flow, --air-front-counter-flow and --air-turbulence-swept / --no-...,
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "models/air_field.h"
 #include "models/cfd_field.h"
 #include "scenes/scenario.h"
 #include "sim/twin.h"
@@ -47,6 +49,22 @@ struct TwinSetup {
   /// (--no-air-turbulence-swept).
   std::optional<bool> air_turbulence_swept;
 };
+
+/// What the controller plans with, as `--table` and `--model` set it: the field model (the twin's
+/// analytical air too) and the model files.
+struct ControllerSetup {
+  std::string table;                ///< "": the default model, fitted to the CFD
+  std::vector<std::string> models;  ///< empty: default_controller_models of the twin
+};
+
+/// The model files the controller plans with: its own, or those fitted to the twin `setup` builds
+/// (runs/scenario_run.h default_controller_models, as the CLI's).
+std::vector<std::string> controller_models(const ControllerSetup& controller,
+                                           const TwinSetup& setup);
+
+/// The controller's field model: `table`'s, or the default one fitted to the CFD. Throws
+/// InputError for a bad file.
+AirFieldModel controller_field_model(const ControllerSetup& controller);
 
 /// The twin's parameters the set-up selects, checked against `scenario` (a user's MJCF must
 /// provide what the twin needs for its objects, sim/scene_builder.h). Throws InputError
