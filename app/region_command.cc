@@ -52,19 +52,7 @@ void run_region(const RegionArgs& a) {
   check_run_setup_flags(a.setup);
   const AirFieldModel field = field_model_of(a.setup);
   const ScenarioRunOptions run = run_options_of(a.setup);
-  const auto xi = run.dynamics.find(o.object);
-  if (xi == run.dynamics.end()) {
-    throw InputError("--model: no model for object type '" + o.object + "'");
-  }
-  // The controller's prediction: its field (an extended model's scaled one), the paper's CEM
-  // settings with this horizon, the extended model's extensions when it has any.
-  const AirFieldModel& planning = run.planning_field ? *run.planning_field : field;
-  CemParameters params;
-  params.horizon_s = o.horizon_s;
-  const CemPlanner planner(planning, params, {}, run.planning_extensions);
-
-  std::vector<RegionPush> pushes = plan_region(o, planning.geometry());
-  predict_region(&pushes, planner, xi->second);
+  std::vector<RegionPush> pushes = model_region(o, field, run);
   if (a.twin) {
     std::unique_ptr<Progress> progress;
     int reachable = 0;

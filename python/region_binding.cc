@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "common/errors.h"
-#include "controller/cem_planner.h"
 #include "python/bindings.h"
 #include "python/twin_setup.h"
 #include "runs/manipulation_region.h"
@@ -38,21 +37,12 @@ PyRegion region(const RegionOptions& options, bool twin, const TwinSetup& setup,
   const AirFieldModel field = controller_field_model(controller);
   ScenarioRunOptions run;
   plan_with_model_files(controller_models(controller, setup), field, &run);
-  const auto xi = run.dynamics.find(options.object);
-  if (xi == run.dynamics.end()) {
-    throw InputError("models: no model for object type '" + options.object + "'");
-  }
-  const AirFieldModel& planning = run.planning_field ? *run.planning_field : field;
-  CemParameters params;
-  params.horizon_s = options.horizon_s;
-  const CemPlanner planner(planning, params, {}, run.planning_extensions);
   PyRegion r;
   r.options = options;
-  r.pushes = plan_region(options, planning.geometry());
   const TwinParameters twin_params = twin ? twin_parameters(setup, Scenario{}) : TwinParameters{};
   {
     py::gil_scoped_release release;
-    predict_region(&r.pushes, planner, xi->second);
+    r.pushes = model_region(options, field, run);
     if (twin) run_region_in_twin(&r.pushes, options, twin_params, field);
   }
   r.summary = summarize_region(r.pushes, options);

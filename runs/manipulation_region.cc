@@ -103,6 +103,22 @@ void predict_region(std::vector<RegionPush>* pushes, const CemPlanner& planner,
   }
 }
 
+std::vector<RegionPush> model_region(const RegionOptions& options, const AirFieldModel& field,
+                                     const ScenarioRunOptions& run) {
+  const auto xi = run.dynamics.find(options.object);
+  if (xi == run.dynamics.end()) {
+    throw InputError("region: the controller has no model for object type '" + options.object +
+                     "'");
+  }
+  const AirFieldModel& planning = run.planning_field ? *run.planning_field : field;
+  CemParameters params;
+  params.horizon_s = options.horizon_s;
+  const CemPlanner planner(planning, params, {}, run.planning_extensions);
+  std::vector<RegionPush> pushes = plan_region(options, planning.geometry());
+  predict_region(&pushes, planner, xi->second);
+  return pushes;
+}
+
 void run_region_in_twin(std::vector<RegionPush>* pushes, const RegionOptions& options,
                         const TwinParameters& params, const AirFieldModel& field,
                         const std::function<void(int, int)>& progress) {

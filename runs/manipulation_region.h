@@ -30,6 +30,7 @@
 #include "models/air_field.h"
 #include "models/nozzle_geometry.h"
 #include "models/object_dynamics.h"
+#include "runs/scenario_run.h"
 #include "sim/twin.h"
 
 namespace airtwin {
@@ -93,6 +94,13 @@ std::vector<RegionPush> plan_region(const RegionOptions& options, const NozzleGe
 /// `xi` at rest at p, the nozzle at the push's orientation for the planner's horizon.
 void predict_region(std::vector<RegionPush>* pushes, const CemPlanner& planner,
                     const ObjectDynamics& xi);
+
+/// The pushes planned and judged by the model a closed-loop run with `run` plans with: its planning
+/// field (an extended model's scaled one, else `field`) places s, and its dynamics for the object
+/// type, with the extended model's extensions if any, predict over options.horizon_s. Throws
+/// InputError when `run` has no dynamics for options.object.
+std::vector<RegionPush> model_region(const RegionOptions& options, const AirFieldModel& field,
+                                     const ScenarioRunOptions& run);
 
 /// Sets twin_end_W of every reachable push: a twin with `params` (the object placed at p, the
 /// nozzle at the orientation, jet off for settle_s, then its steady air for horizon_s).

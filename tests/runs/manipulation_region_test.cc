@@ -126,6 +126,38 @@ TEST(ManipulationRegion, ModelEndsAreEquationEightIntegrated) {
   EXPECT_GT(moved, 10);
 }
 
+// model_region is plan_region and predict_region with the run's field, dynamics and horizon; a
+// run without the object's dynamics is an error naming the type.
+TEST(ManipulationRegion, ModelRegionIsTheRunsPlannerPrediction) {
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
+  RegionOptions o = small_grid();
+  o.horizon_s = 1.0;
+  ScenarioRunOptions run;
+  run.dynamics["tracer"] = {-3.0, 4.5, -8.0};
+  const std::vector<RegionPush> got = model_region(o, field, run);
+  std::vector<RegionPush> want = plan_region(o, field.geometry());
+  CemParameters params;
+  params.horizon_s = 1.0;
+  predict_region(&want, CemPlanner(field, params), run.dynamics["tracer"]);
+  ASSERT_EQ(got.size(), want.size());
+  int moved = 0;
+  for (size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].model_end_W.has_value(), want[i].model_end_W.has_value());
+    if (got[i].model_end_W) {
+      EXPECT_EQ(*got[i].model_end_W, *want[i].model_end_W) << i;
+      moved += travel_along(got[i], *got[i].model_end_W) >= o.min_travel_m ? 1 : 0;
+    }
+  }
+  EXPECT_GT(moved, 0);
+  run.dynamics.erase("tracer");
+  try {
+    model_region(o, field, run);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no model for object type 'tracer'"), std::string::npos);
+  }
+}
+
 // Hand-set ends on two points of four directions: the tallies by class, the region's points and
 // the agreement table.
 TEST(ManipulationRegion, SummaryCountsAsByHand) {
