@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,12 +16,14 @@
 #include "common/csv.h"
 #include "common/errors.h"
 #include "runs/manipulation_region.h"
+#include "scenes/scenario.h"
 
 namespace airtwin::cli {
 namespace {
 
 struct RegionArgs {
   RegionOptions options;
+  std::string scenario;
   RunSetupFlags setup;
   bool twin = false;
   bool quiet = false;
@@ -46,8 +49,17 @@ void print_judgement(const char* judge, const RegionJudgement& j, int points) {
   std::printf("; every direction at %d of %d points\n", j.region_points, points);
 }
 
-void run_region(const RegionArgs& a) {
-  const RegionOptions& o = a.options;
+void run_region(const RegionArgs& a, const CLI::App& sub) {
+  RegionOptions o = a.options;
+  // A scenario's controller sets D and Delta T, and its first object the type, unless the flags
+  // say otherwise; its task is drawn over the maps.
+  std::optional<Scenario> scenario;
+  if (!a.scenario.empty()) {
+    scenario = read_scenario(a.scenario);
+    if (sub.count("--distance") == 0) o.distance_m = scenario->controller.mean0_m;
+    if (sub.count("--horizon") == 0) o.horizon_s = scenario->controller.horizon_s;
+    if (sub.count("--object") == 0) o.object = scenario->scene.objects.front().type;
+  }
   with_flags(kRegionFlags, [&] { o.validate(); });
   check_run_setup_flags(a.setup);
   const AirFieldModel field = field_model_of(a.setup);
@@ -67,7 +79,7 @@ void run_region(const RegionArgs& a) {
   std::filesystem::create_directories(a.out);
   write_text_file(a.out + "/region.csv", region_csv(pushes));
   write_text_file(a.out + "/region.json", region_json(s, o));
-  write_region_png(pushes, s, o, a.out + "/region.png");
+  write_region_png(pushes, s, o, a.out + "/region.png", scenario ? &*scenario : nullptr);
 
   std::printf(
       "%s at rest, s %.1f cm behind it, held %.2f s: %d points x %d directions, %d pushes "
@@ -99,6 +111,10 @@ void add_region_command(CLI::App& app) {
       "nozzle, the points every direction moves, where the judges disagree) and region.png.\n"
       "docs/controller.md.");
   RegionOptions& o = args->options;
+  sub->add_option("--scenario", args->scenario,
+                  "A scenario file: its controller's mu0 is D and its horizon Delta T, its first\n"
+                  "object's type the object (unless --distance, --horizon, --object say\n"
+                  "otherwise), and its path or zones and objects are drawn over the maps");
   sub->add_option("--object", o.object, "tracer | cotton")->capture_default_str();
   sub->add_option("--extent", o.extent_m, "The grid covers [-E, E]^2 (m)")->capture_default_str();
   sub->add_option("--step", o.step_m, "Grid spacing (m)")->capture_default_str();
@@ -132,7 +148,7 @@ void add_region_command(CLI::App& app) {
   add_air_flags(sub, f.air);
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->add_option("--out", args->out, "Output folder")->required();
-  sub->callback([args] { run_region(*args); });
+  sub->callback([args, sub] { run_region(*args, *sub); });
 }
 
 }  // namespace airtwin::cli

@@ -1,5 +1,6 @@
 #include "plots/region_plot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -11,8 +12,9 @@ namespace {
 
 const cv::Scalar kMovedColour(60, 160, 40);    // green
 const cv::Scalar kStillColour(175, 175, 175);  // grey
+const cv::Scalar kTaskColour(200, 110, 30);    // blue: the scenario's path, zones, objects
 constexpr int kPanelWidth_px = 620;
-constexpr int kHeight_px = 700;
+constexpr int kHeight_px = 720;
 
 void check(const RegionPlot& plot, const std::string& path) {
   auto fail = [&](const std::string& what) {
@@ -38,6 +40,32 @@ void check(const RegionPlot& plot, const std::string& path) {
       fail("push " + std::to_string(i) + " is not finite");
     }
   }
+  for (const Eigen::Vector2d& p : plot.path_W) {
+    if (!p.allFinite()) fail("a path vertex is not finite");
+  }
+  for (const RegionCircle& z : plot.zones) {
+    if (!z.centre_W.allFinite() || !(std::isfinite(z.radius_m) && z.radius_m > 0.0)) {
+      fail("a zone is not finite or its radius not > 0");
+    }
+  }
+  for (const Eigen::Vector2d& p : plot.objects_W) {
+    if (!p.allFinite()) fail("an object's position is not finite");
+  }
+}
+
+// The scenario's task over the map.
+void draw_task(cv::Mat& img, const PlotFrame& frame, const RegionPlot& plot) {
+  for (size_t i = 1; i < plot.path_W.size(); ++i) {
+    cv::line(img, frame.to_px(plot.path_W[i - 1]), frame.to_px(plot.path_W[i]), kTaskColour, 2,
+             cv::LINE_AA);
+  }
+  for (const RegionCircle& z : plot.zones) {
+    const int r = static_cast<int>(std::lround(z.radius_m * frame.px_per_x()));
+    cv::circle(img, frame.to_px(z.centre_W), std::max(r, 1), kTaskColour, 2, cv::LINE_AA);
+  }
+  for (const Eigen::Vector2d& p : plot.objects_W) {
+    cv::circle(img, frame.to_px(p), 4, kTaskColour, -1, cv::LINE_AA);
+  }
 }
 
 void draw_panel(cv::Mat& img, int left_px, const RegionPlot& plot, const RegionPanel& panel) {
@@ -60,6 +88,7 @@ void draw_panel(cv::Mat& img, int left_px, const RegionPlot& plot, const RegionP
       }
     }
   }
+  draw_task(img, frame, plot);
   draw_axes(img, frame, "x (m)", "y (m)");
   TextStyle title;
   title.scale = 0.55;
@@ -78,15 +107,16 @@ void write_region_png(const RegionPlot& plot, const std::string& path) {
   }
   TextStyle legend;
   legend.scale = 0.45;
-  const int y = kHeight_px - 75;
+  const int y = kHeight_px - 95;
   cv::arrowedLine(img, cv::Point(40, y), cv::Point(70, y), kMovedColour, 2, cv::LINE_AA, 0, 0.35);
   draw_text(img, "the push moved the object;  + the point below the nozzle", cv::Point2d(80, y),
             HAlign::kLeft, VAlign::kMiddle, legend);
   cv::line(img, cv::Point(40, y + 22), cv::Point(70, y + 22), kStillColour, 1, cv::LINE_AA);
   draw_text(img, "it did not;  no line: the nozzle cannot put s there", cv::Point2d(80, y + 22),
             HAlign::kLeft, VAlign::kMiddle, legend);
-  if (!plot.caption.empty()) {
-    draw_text(img, plot.caption, cv::Point2d(40, y + 48), HAlign::kLeft, VAlign::kMiddle, legend);
+  for (size_t k = 0; k < plot.caption.size(); ++k) {
+    draw_text(img, plot.caption[k], cv::Point2d(40, y + 48 + 20 * static_cast<int>(k)),
+              HAlign::kLeft, VAlign::kMiddle, legend);
   }
   write_png(img, path);
 }

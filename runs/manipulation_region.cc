@@ -310,7 +310,8 @@ std::string region_json(const RegionSummary& summary, const RegionOptions& optio
 }
 
 void write_region_png(const std::vector<RegionPush>& pushes, const RegionSummary& summary,
-                      const RegionOptions& options, const std::string& path) {
+                      const RegionOptions& options, const std::string& path,
+                      const Scenario* scenario) {
   plots::RegionPlot plot;
   plot.extent_m = options.extent_m;
   plot.step_m = options.step_m;
@@ -322,8 +323,8 @@ void write_region_png(const std::vector<RegionPush>& pushes, const RegionSummary
                          std::optional<Eigen::Vector2d> RegionPush::*end) {
     plots::RegionPanel p;
     char title[160];
-    std::snprintf(title, sizeof title, "%s: %d of %d pushes move it; %d of %d points every way",
-                  judge, j.all.moved, j.all.of, j.region_points, summary.points);
+    std::snprintf(title, sizeof title, "%s: moved %d/%d; every way at %d/%d points", judge,
+                  j.all.moved, j.all.of, j.region_points, summary.points);
     p.title = title;
     for (const RegionPush& push : pushes) {
       const std::optional<Eigen::Vector2d>& e = push.*end;
@@ -336,13 +337,23 @@ void write_region_png(const std::vector<RegionPush>& pushes, const RegionSummary
   };
   if (summary.model) panel("model", *summary.model, &RegionPush::model_end_W);
   if (summary.twin) panel("twin", *summary.twin, &RegionPush::twin_end_W);
-  char caption[200];
-  std::snprintf(caption, sizeof caption,
-                "%s at rest, s %.1f cm behind it, held %.2f s; moved: %.1f cm or more along the "
-                "push",
-                options.object.c_str(), 100.0 * options.distance_m, options.horizon_s,
-                100.0 * options.min_travel_m);
-  plot.caption = caption;
+  char line[160];
+  std::snprintf(line, sizeof line, "%s at rest, s %.1f cm behind it, held %.2f s;",
+                options.object.c_str(), 100.0 * options.distance_m, options.horizon_s);
+  plot.caption.push_back(line);
+  std::snprintf(line, sizeof line, "moved: %.1f cm or more along the push%s",
+                100.0 * options.min_travel_m,
+                scenario != nullptr ? "; blue: the scenario's task" : "");
+  plot.caption.push_back(line);
+  if (scenario != nullptr) {
+    const TaskSpec& task = scenario->task;
+    if (task.kind == TaskKind::kPath) plot.path_W = task.path_W;
+    if (task.kind == TaskKind::kAggregation)
+      plot.zones.push_back({task.zone.centre_W, task.zone.radius_m});
+    for (const auto& [type, zone] : task.zones_by_type)
+      plot.zones.push_back({zone.centre_W, zone.radius_m});
+    for (const ObjectSpec& o : scenario->scene.objects) plot.objects_W.push_back(o.p_W);
+  }
   plots::write_region_png(plot, path);
 }
 

@@ -144,9 +144,11 @@ std::string region_csv(const std::vector<RegionPush>& pushes);
 /// region.json: the options and the summary. docs/data_formats.md.
 std::string region_json(const RegionSummary& summary, const RegionOptions& options);
 
-/// region.png: a map of the floor per judge that saw the pushes (plots/region_plot.h). Throws
+/// region.png: a map of the floor per judge that saw the pushes (plots/region_plot.h), with
+/// `scenario`'s task over it when given (its path, zones and objects' start positions). Throws
 /// InputError when the file cannot be written.
 void write_region_png(const std::vector<RegionPush>& pushes, const RegionSummary& summary,
-                      const RegionOptions& options, const std::string& path);
+                      const RegionOptions& options, const std::string& path,
+                      const Scenario* scenario = nullptr);
 
 }  // namespace airtwin

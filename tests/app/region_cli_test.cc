@@ -104,6 +104,31 @@ TEST(RegionCli, WithoutTheTwinOnlyTheModelJudges) {
   EXPECT_EQ(r.out.find("twin "), std::string::npos) << r.out;
 }
 
+// A scenario's controller gives D and Delta T and its first object the type, unless the flags
+// say otherwise.
+TEST(RegionCli, ScenarioSetsTheDistanceHorizonAndObject) {
+  const std::string scenes = std::string(AIRTWIN_SOURCE_DIR) + "/scenes/";
+  const std::string d = scratch_dir("region_scenario");
+  ASSERT_EQ(run_airtwin("region" + kSmall + "--scenario " + scenes + "aggregation.yaml --out " + d)
+                .exit_code,
+            0);
+  auto j = nlohmann::json::parse(file_text(d + "/region.json"));
+  EXPECT_EQ(j["distance_m"], 0.25);  // the file's mean0_m
+  EXPECT_EQ(j["horizon_s"], 1.5);
+  EXPECT_EQ(j["object"], "tracer");
+  ASSERT_EQ(run_airtwin("region" + kSmall + "--scenario " + scenes +
+                        "aggregation.yaml --distance 0.3 --horizon 1 --out " + d)
+                .exit_code,
+            0);
+  j = nlohmann::json::parse(file_text(d + "/region.json"));
+  EXPECT_EQ(j["distance_m"], 0.3);
+  EXPECT_EQ(j["horizon_s"], 1.0);
+  const auto bad = run_airtwin("region --scenario " + scenes + "nosuch.yaml --out " + d);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("nosuch.yaml"), std::string::npos) << bad.err;
+}
+
 TEST(RegionCli, BadInputIsOneClearLine) {
   const std::string d = scratch_dir("region_bad");
   for (const auto& [args, code, needle] : std::vector<std::tuple<std::string, int, std::string>>{

@@ -46,7 +46,7 @@ RegionPlot two_points(PushVerdict left, PushVerdict right) {
   plot.points_W = {{0.4, 0.0}, {-0.4, 0.0}};
   plot.directions_W = {{1.0, 0.0}, {1.0, 0.0}};
   plot.panels = {{"model", {left, left}}, {"twin", {right, PushVerdict::kUnreachable}}};
-  plot.caption = "caption";
+  plot.caption = {"caption", "second line"};
   return plot;
 }
 
@@ -55,7 +55,7 @@ TEST(RegionPlot, MovedPushesAreGreenArrowsWhereThePointIs) {
   write_region_png(two_points(PushVerdict::kMoved, PushVerdict::kStill), path);
   const cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
   ASSERT_EQ(img.cols, 1240);
-  ASSERT_EQ(img.rows, 700);
+  ASSERT_EQ(img.rows, 720);
   // The left map: the arrow of (0.4, 0) runs from x 0.432 to 0.568 m on row y 0, i.e. columns
   // 80 + (x + 0.6) / 1.2 * 499 = 526.3 .. 582.9 (the map ends at 579), row 309.5.
   const auto column = [](double x) { return static_cast<int>(80 + (x + 0.6) / 1.2 * 499.0); };
@@ -79,6 +79,37 @@ TEST(RegionPlot, OnePanelIsHalfAsWide) {
   const std::string path = out_path("one");
   write_region_png(plot, path);
   EXPECT_EQ(cv::imread(path, cv::IMREAD_COLOR).cols, 620);
+}
+
+// A scenario's task is drawn in blue over every map: a path, a zone, an object.
+TEST(RegionPlot, TheTaskIsDrawnOverEveryMap) {
+  RegionPlot plot = two_points(PushVerdict::kStill, PushVerdict::kStill);
+  const std::string plain = out_path("plain");
+  write_region_png(plot, plain);
+  plot.path_W = {{-0.5, 0.5}, {0.5, 0.5}};
+  plot.zones = {{{0.0, -0.3}, 0.1}};
+  plot.objects_W = {{-0.5, -0.5}};
+  const std::string task = out_path("task");
+  write_region_png(plot, task);
+  const auto blue = [](const cv::Mat& img, int u0, int u1) {
+    int n = 0;
+    for (int v = 60; v < 560; ++v) {
+      for (int u = u0; u < u1; ++u) {
+        const cv::Vec3b p = img.at<cv::Vec3b>(v, u);
+        n += (p[0] == 200 && p[1] == 110 && p[2] == 30) ? 1 : 0;
+      }
+    }
+    return n;
+  };
+  const cv::Mat a = cv::imread(plain, cv::IMREAD_COLOR), b = cv::imread(task, cv::IMREAD_COLOR);
+  EXPECT_EQ(blue(a, 0, 1240), 0);
+  EXPECT_GT(blue(b, 0, 620), 200);     // the left map
+  EXPECT_GT(blue(b, 620, 1240), 200);  // and the right one
+  // The path's row: y 0.5 m is row 60 + (0.6 - 0.5) / 1.2 * 499 = 101.6.
+  EXPECT_TRUE(b.at<cv::Vec3b>(102, 330) == cv::Vec3b(200, 110, 30) ||
+              b.at<cv::Vec3b>(101, 330) == cv::Vec3b(200, 110, 30));
+  plot.zones = {{{0.0, 0.0}, 0.0}};
+  EXPECT_THROW(write_region_png(plot, task), InputError);
 }
 
 TEST(RegionPlot, InputThatCannotBeDrawnIsAnErrorNamingTheFile) {
