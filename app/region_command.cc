@@ -60,6 +60,12 @@ void run_region(const RegionArgs& a, const CLI::App& sub) {
     if (sub.count("--horizon") == 0) o.horizon_s = scenario->controller.horizon_s;
     if (sub.count("--object") == 0) o.object = scenario->scene.objects.front().type;
   }
+  // What only the twin uses is refused without it rather than ignored.
+  if (!a.twin) {
+    for (const char* flag : {"--effect", "--object-physics", "--settle", "--seed", "--threads"}) {
+      if (sub.count(flag) > 0) throw UsageError(std::string(flag) + " needs --twin");
+    }
+  }
   with_flags(kRegionFlags, [&] { o.validate(); });
   check_run_setup_flags(a.setup);
   const AirFieldModel field = field_model_of(a.setup);
@@ -145,6 +151,7 @@ void add_region_command(CLI::App& app) {
                   "(default: as 'run', the models fitted to the physical twin)");
   sub->add_option("--effect", f.effects,
                   "With --twin: a physical effect switched on in the twin, NAME:k=v,...");
+  // --object-physics (add_air_flags) likewise acts on the twin only.
   add_air_flags(sub, f.air);
   sub->add_flag("--quiet", args->quiet, "No progress on stderr");
   sub->add_option("--out", args->out, "Output folder")->required();

@@ -138,6 +138,9 @@ TEST(RegionCli, BadInputIsOneClearLine) {
            {"--distance -1", 2, "--distance: expected a distance in (0, 2] m"},
            {"--model /nonexistent/model.json", 1, "/nonexistent/model.json"},
            {"--twin --effect nosuch", 2, "--effect: effect 'nosuch': unknown effect"},
+           {"--effect stiction", 2, "--effect needs --twin"},
+           {"--object-physics tracer:cd=0.4", 2, "--object-physics needs --twin"},
+           {"--seed 3", 2, "--seed needs --twin"},
        }) {
     const auto r = run_airtwin("region " + args + " --out " + d);
     EXPECT_EQ(r.exit_code, code) << args << "\nstderr: " << r.err;
