@@ -34,6 +34,11 @@ struct PyRegion {
 PyRegion region(const RegionOptions& options, bool twin, const TwinSetup& setup,
                 const ControllerSetup& controller) {
   options.validate();
+  // What only the twin uses is refused without it rather than ignored.
+  if (!twin && !setup.effects.empty()) throw FieldError("effects", "needs twin=True");
+  if (!twin && !setup.object_physics.empty()) {
+    throw FieldError("object_physics", "needs twin=True");
+  }
   const AirFieldModel field = controller_field_model(controller);
   ScenarioRunOptions run;
   plan_with_model_files(controller_models(controller, setup), field, &run);

@@ -68,3 +68,5 @@ def test_bad_values_raise_value_error_naming_the_field():
         airtwin.manipulation_region(object="brick")
     with pytest.raises(ValueError, match="air"):
         airtwin.manipulation_region(twin=True, air="wind", **SMALL)
+    with pytest.raises(ValueError, match="effects: needs twin=True"):
+        airtwin.manipulation_region(effects=["stiction"], **SMALL)
