@@ -28,6 +28,7 @@ struct RegionArgs {
   bool twin = false;
   bool quiet = false;
   std::string out;
+  std::string trajectories_out;
 };
 
 constexpr std::initializer_list<FlagOf> kRegionFlags = {{"region.object", "--object"},
@@ -62,7 +63,8 @@ void run_region(const RegionArgs& a, const CLI::App& sub) {
   }
   // What only the twin uses is refused without it rather than ignored.
   if (!a.twin) {
-    for (const char* flag : {"--effect", "--object-physics", "--settle", "--seed", "--threads"}) {
+    for (const char* flag : {"--effect", "--object-physics", "--settle", "--seed", "--threads",
+                             "--trajectories-out"}) {
       if (sub.count(flag) > 0) throw UsageError(std::string(flag) + " needs --twin");
     }
   }
@@ -76,9 +78,17 @@ void run_region(const RegionArgs& a, const CLI::App& sub) {
     int reachable = 0;
     for (const RegionPush& p : pushes) reachable += p.reachable() ? 1 : 0;
     if (!a.quiet) progress = std::make_unique<Progress>("region", "pushes", reachable);
-    run_region_in_twin(&pushes, o, run.twin, field, [&](int done, int) {
-      if (progress) progress->update(done);
-    });
+    TrajectorySet records;
+    run_region_in_twin(
+        &pushes, o, run.twin, field,
+        [&](int done, int) {
+          if (progress) progress->update(done);
+        },
+        a.trajectories_out.empty() ? nullptr : &records);
+    if (!a.trajectories_out.empty()) {
+      ensure_parent_dir(a.trajectories_out);
+      write_text_file(a.trajectories_out, trajectory_csv(records));
+    }
     if (progress) progress->finish();
   }
   const RegionSummary s = summarize_region(pushes, o);
@@ -141,6 +151,10 @@ void add_region_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--threads", o.threads, "With --twin: twins in parallel (0: one per core)")
       ->capture_default_str();
+  sub->add_option("--trajectories-out", args->trajectories_out,
+                  "With --twin: every push's record at 40 Hz from the release as a trajectory\n"
+                  "CSV (id = the push's row in region.csv, from 0), which 'airtwin identify'\n"
+                  "and 'airtwin discrepancy' read: data where the controller pushes");
   RunSetupFlags& f = args->setup;
   sub->add_option("--table", f.table,
                   std::string("The controller's air model (and with --air model the twin's); ") +

@@ -121,7 +121,8 @@ std::vector<RegionPush> model_region(const RegionOptions& options, const AirFiel
 
 void run_region_in_twin(std::vector<RegionPush>* pushes, const RegionOptions& options,
                         const TwinParameters& params, const AirFieldModel& field,
-                        const std::function<void(int, int)>& progress) {
+                        const std::function<void(int, int)>& progress,
+                        TrajectorySet* trajectories) {
   options.validate();
   CollectionOptions collection;
   collection.object = options.object;
@@ -139,6 +140,7 @@ void run_region_in_twin(std::vector<RegionPush>* pushes, const RegionOptions& op
                                            : options.threads;
   std::mutex mutex;  // guards done and the progress callback
   int done = 0;
+  std::vector<Trajectory> records(trajectories != nullptr ? reachable.size() : 0);
   parallel_for(reachable.size(), threads, [&](size_t i) {
     RegionPush& push = *reachable[i];
     CollectionTrial trial;
@@ -148,12 +150,17 @@ void run_region_in_twin(std::vector<RegionPush>* pushes, const RegionOptions& op
     trial.placed = true;
     RandomStream rs(options.seed, RandomPurpose::kCollection, static_cast<uint64_t>(push.index));
     trial.twin_seed = static_cast<uint64_t>(rs.uniform() * 0x1.0p53);
-    const Trajectory tr = run_collection_trial(trial, collection, field);
+    Trajectory tr = run_collection_trial(trial, collection, field);
     push.twin_end_W = tr.samples.back().p_W;
+    if (trajectories != nullptr) records[i] = std::move(tr);
     const std::lock_guard lock(mutex);
     ++done;
     if (progress) progress(done, n);
   });
+  if (trajectories != nullptr) {
+    trajectories->trajectories = std::move(records);
+    trajectories->has_group = false;
+  }
 }
 
 namespace {

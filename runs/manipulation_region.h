@@ -30,6 +30,7 @@
 #include "models/air_field.h"
 #include "models/nozzle_geometry.h"
 #include "models/object_dynamics.h"
+#include "models/trajectory_data.h"
 #include "runs/scenario_run.h"
 #include "sim/twin.h"
 
@@ -104,11 +105,14 @@ std::vector<RegionPush> model_region(const RegionOptions& options, const AirFiel
 
 /// Sets twin_end_W of every reachable push: a twin with `params` (the object placed at p, the
 /// nozzle at the orientation, jet off for settle_s, then its steady air for horizon_s).
-/// `progress(done, total)` (optional) after each trial, from one thread at a time. Throws
-/// SimulationError when a twin fails.
+/// `progress(done, total)` (optional) after each trial, from one thread at a time. With
+/// `trajectories`, also every trial's record at 40 Hz from the release, in push order (id = the
+/// push's index): data of the pushes the controller makes, for `identify` and `discrepancy`.
+/// Throws SimulationError when a twin fails.
 void run_region_in_twin(std::vector<RegionPush>* pushes, const RegionOptions& options,
                         const TwinParameters& params, const AirFieldModel& field,
-                        const std::function<void(int, int)>& progress = {});
+                        const std::function<void(int, int)>& progress = {},
+                        TrajectorySet* trajectories = nullptr);
 
 struct RegionTally {
   int moved = 0;

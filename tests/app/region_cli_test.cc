@@ -37,7 +37,8 @@ struct Tally {
 
 TEST(RegionCli, MirrorTwinCountsMatchTheRowsAndThePictureHasBothMaps) {
   const std::string d = scratch_dir("region_twin");
-  const auto r = run_airtwin("region" + kSmall + "--twin --seed 4" + mirror_flags() + "--out " + d);
+  const auto r = run_airtwin("region" + kSmall + "--twin --seed 4" + mirror_flags() +
+                             "--trajectories-out " + d + "/trajectories.csv --out " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("9 points x 4 directions, 36 pushes the nozzle can aim"), std::string::npos)
       << r.out;
@@ -84,6 +85,22 @@ TEST(RegionCli, MirrorTwinCountsMatchTheRowsAndThePictureHasBothMaps) {
   EXPECT_GT(both, 0);
   EXPECT_GT(neither, 0);
   EXPECT_EQ(cv::imread(d + "/region.png", cv::IMREAD_COLOR).cols, 1240);
+  // The pushes' records: one trajectory per push, id its row, released at t = 0 where the row
+  // says, ending where the row's twin end is, 1.5 s at 40 Hz.
+  const CsvTable tr = CsvTable::read_file(d + "/trajectories.csv",
+                                          {"traj", "object", "t", "x", "y", "pan_deg", "tilt_deg"});
+  ASSERT_EQ(tr.rows(), 36u * 61u);
+  for (size_t k = 0; k < 36; ++k) {
+    const size_t first = 61 * k, last = first + 60;
+    EXPECT_EQ(tr.text(first, "traj"), std::to_string(k));
+    EXPECT_EQ(tr.number(first, "t"), 0.0);
+    EXPECT_NEAR(tr.number(last, "t"), 1.5, 1e-9);
+    EXPECT_NEAR(tr.number(first, "x"), csv.number(k, "x"), 2e-3);  // placed, then settled
+    EXPECT_NEAR(tr.number(first, "y"), csv.number(k, "y"), 2e-3);
+    EXPECT_NEAR(tr.number(last, "x"), csv.number(k, "twin_end_x"), 1e-6);
+    EXPECT_NEAR(tr.number(last, "y"), csv.number(k, "twin_end_y"), 1e-6);
+    EXPECT_NEAR(tr.number(first, "tilt_deg"), csv.number(k, "tilt_deg"), 1e-6);
+  }
   // A rerun writes the same bytes.
   const std::string d2 = scratch_dir("region_twin_again");
   ASSERT_EQ(
@@ -141,6 +158,7 @@ TEST(RegionCli, BadInputIsOneClearLine) {
            {"--effect stiction", 2, "--effect needs --twin"},
            {"--object-physics tracer:cd=0.4", 2, "--object-physics needs --twin"},
            {"--seed 3", 2, "--seed needs --twin"},
+           {"--trajectories-out x.csv", 2, "--trajectories-out needs --twin"},
        }) {
     const auto r = run_airtwin("region " + args + " --out " + d);
     EXPECT_EQ(r.exit_code, code) << args << "\nstderr: " << r.err;
