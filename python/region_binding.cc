@@ -29,6 +29,7 @@ struct PyRegion {
   RegionOptions options;
   std::vector<RegionPush> pushes;
   RegionSummary summary;
+  std::optional<TrajectorySet> twin_records;  ///< with the twin: every push's record
 };
 
 PyRegion region(const RegionOptions& options, bool twin, const TwinSetup& setup,
@@ -48,7 +49,10 @@ PyRegion region(const RegionOptions& options, bool twin, const TwinSetup& setup,
   {
     py::gil_scoped_release release;
     r.pushes = model_region(options, field, run);
-    if (twin) run_region_in_twin(&r.pushes, options, twin_params, field);
+    if (twin) {
+      r.twin_records.emplace();
+      run_region_in_twin(&r.pushes, options, twin_params, field, {}, &*r.twin_records);
+    }
   }
   r.summary = summarize_region(r.pushes, options);
   return r;
@@ -161,6 +165,15 @@ void bind_region(py::module_& m) {
           "region.json's text: the counts per class, the region's points, the agreement.")
       .def(
           "csv", [](const PyRegion& r) { return region_csv(r.pushes); }, "region.csv's text.")
+      .def(
+          "trajectories_csv",
+          [](const PyRegion& r) {
+            if (!r.twin_records)
+              throw InputError("trajectories_csv: the region was computed without twin=True");
+            return trajectory_csv(*r.twin_records);
+          },
+          "The twin's record of every reachable push as a trajectory CSV (`--trajectories-out`'s "
+          "text): 40 Hz from the release, id the push's row.")
       .def(
           "write_png",
           [](const PyRegion& r, const std::string& path) {

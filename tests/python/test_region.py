@@ -22,12 +22,15 @@ def test_the_module_writes_what_the_cli_writes():
     with tempfile.TemporaryDirectory() as d:
         subprocess.run([os.environ["AIRTWIN_BINARY"], "region", "--extent", "0.4", "--step", "0.4",
                         "--directions", "4", "--twin", "--seed", "3", "--air", "model", "--drag",
-                        "eq8", "--table", CONSTRUCTED, "--quiet", "--out", d],
+                        "eq8", "--table", CONSTRUCTED, "--quiet", "--trajectories-out",
+                        os.path.join(d, "tr.csv"), "--out", d],
                        check=True, capture_output=True)
         with open(os.path.join(d, "region.csv")) as f:
             assert r.csv() == f.read()
         with open(os.path.join(d, "region.json")) as f:
             assert r.summary_json() == f.read()
+        with open(os.path.join(d, "tr.csv")) as f:
+            assert r.trajectories_csv() == f.read()
 
 
 def test_model_ends_are_eq8_predicted_for_each_push():
@@ -42,6 +45,8 @@ def test_model_ends_are_eq8_predicted_for_each_push():
         assert np.allclose(r.model_end[i], end, rtol=0, atol=1e-9), i
         assert r.model_along_m[i] == pytest.approx(np.dot(end - p, r.directions[i]), abs=1e-9)
     assert np.isnan(r.twin_end).all() and np.isnan(r.twin_along_m).all()
+    with pytest.raises(ValueError, match="without twin=True"):
+        r.trajectories_csv()
 
 
 def test_counts_are_the_arrays_counted():
