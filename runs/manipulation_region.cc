@@ -44,6 +44,13 @@ void RegionOptions::validate() const {
   if (threads < 0 || threads > 256) {
     throw FieldError("region.threads", "expected a count in [0, 256]");
   }
+  const double side = 2.0 * std::floor(extent_m / step_m + 1e-9) + 1.0;
+  if (side * side * directions > kMaxRegionPushes) {
+    throw FieldError("region.step_m", "the grid and directions make " +
+                                          std::to_string(side * side * directions) +
+                                          " pushes, more than " + std::to_string(kMaxRegionPushes) +
+                                          ": a larger step, a smaller extent or fewer directions");
+  }
 }
 
 PushClass classify_push(const Eigen::Vector2d& p_W, const Eigen::Vector2d& d_W) {

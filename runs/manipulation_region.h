@@ -36,6 +36,9 @@
 
 namespace airtwin {
 
+/// The most pushes one region may have (memory and time: a twin trial takes ~10 ms).
+inline constexpr int kMaxRegionPushes = 1000000;
+
 struct RegionOptions {
   std::string object = "tracer";  ///< "tracer" | "cotton"
   double extent_m = 0.8;          ///< the grid covers [-extent, extent]^2 around the origin

@@ -262,6 +262,12 @@ TEST(ManipulationRegion, BadOptionsNameTheirField) {
   o = RegionOptions{};
   o.min_travel_m = 0.0;
   EXPECT_EQ(field_of(o), "region.min_travel_m");
+  o = RegionOptions{};
+  o.extent_m = 2.0;
+  o.step_m = 0.01;  // 401^2 points of 8 directions
+  EXPECT_EQ(field_of(o), "region.step_m");
+  o.directions = 6;  // 964 806 pushes
+  EXPECT_EQ(field_of(o), "none");
   // Pushes that are not whole points.
   std::vector<RegionPush> pushes = plan_region(small_grid(), NozzleGeometry{});
   pushes.pop_back();
