@@ -46,10 +46,11 @@ void RegionOptions::validate() const {
   }
   const double side = 2.0 * std::floor(extent_m / step_m + 1e-9) + 1.0;
   if (side * side * directions > kMaxRegionPushes) {
-    throw FieldError("region.step_m", "the grid and directions make " +
-                                          std::to_string(side * side * directions) +
-                                          " pushes, more than " + std::to_string(kMaxRegionPushes) +
-                                          ": a larger step, a smaller extent or fewer directions");
+    throw FieldError("region.step_m",
+                     "the grid and directions make " +
+                         std::to_string(static_cast<long long>(side * side * directions)) +
+                         " pushes, more than " + std::to_string(kMaxRegionPushes) +
+                         ": a larger step, a smaller extent or fewer directions");
   }
 }
 
