@@ -20,8 +20,9 @@ void RegionOptions::validate() const {
   if (object != "tracer" && object != "cotton") {
     throw FieldError("region.object", "expected tracer or cotton, got '" + object + "'");
   }
-  if (!(extent_m > 0.0 && extent_m <= 2.0)) {
-    throw FieldError("region.extent_m", "expected a half-width in (0, 2] m");
+  if (!(extent_m > 0.0 && extent_m <= 1.9)) {
+    throw FieldError("region.extent_m",
+                     "expected a half-width in (0, 1.9] m (the twin's floor spans +-2 m)");
   }
   if (!(step_m >= 0.01 && step_m <= extent_m)) {
     throw FieldError("region.step_m", "expected a spacing in [0.01 m, extent]");
@@ -29,8 +30,11 @@ void RegionOptions::validate() const {
   if (directions < 1 || directions > 64) {
     throw FieldError("region.directions", "expected a count in [1, 64]");
   }
-  if (!(distance_m > 0.0 && distance_m <= 2.0)) {
-    throw FieldError("region.distance_m", "expected a distance in (0, 2] m");
+  // Nearer than delta_min the controller's eq. (10) penalises the push: it never makes it.
+  if (!(distance_m > CemParameters{}.min_distance_m && distance_m <= 2.0)) {
+    throw FieldError("region.distance_m",
+                     "expected a distance in (0.1, 2] m (nearer, eq. (10)'s delta_min forbids the "
+                     "push)");
   }
   if (!(horizon_s > 0.0 && horizon_s <= 60.0)) {
     throw FieldError("region.horizon_s", "expected seconds in (0, 60]");

@@ -256,6 +256,11 @@ TEST(ManipulationRegion, BadOptionsNameTheirField) {
   o = RegionOptions{};
   o.distance_m = std::nan("");
   EXPECT_EQ(field_of(o), "region.distance_m");
+  o.distance_m = 0.1;  // delta_min: eq. (10) penalises the push
+  EXPECT_EQ(field_of(o), "region.distance_m");
+  o = RegionOptions{};
+  o.extent_m = 2.0;  // the floor's edge
+  EXPECT_EQ(field_of(o), "region.extent_m");
   o = RegionOptions{};
   o.horizon_s = -1.0;
   EXPECT_EQ(field_of(o), "region.horizon_s");
@@ -263,10 +268,10 @@ TEST(ManipulationRegion, BadOptionsNameTheirField) {
   o.min_travel_m = 0.0;
   EXPECT_EQ(field_of(o), "region.min_travel_m");
   o = RegionOptions{};
-  o.extent_m = 2.0;
-  o.step_m = 0.01;  // 401^2 points of 8 directions
+  o.extent_m = 1.9;
+  o.step_m = 0.01;  // 381^2 points of 8 directions
   EXPECT_EQ(field_of(o), "region.step_m");
-  o.directions = 6;  // 964 806 pushes
+  o.directions = 6;  // 870 966 pushes
   EXPECT_EQ(field_of(o), "none");
   // Pushes that are not whole points.
   std::vector<RegionPush> pushes = plan_region(small_grid(), NozzleGeometry{});
