@@ -8,6 +8,7 @@
 # does next: the closed-loop logs of other seeds analysed (`airtwin discrepancy`), and the same
 # batch again planning with the extended model.
 # Usage: bash scripts/physical_twin_closed_loop.sh [--seeds N] [--first-seed F] [--discrepancy]
+#        [--pushes]
 #        [--physics TYPE:k=v,...]
 #        [--no-formation | --formation-time-scale X] [--still-front] [--model FILE]
 #        [--multi] [--cotton-physics cotton:k=v,...] [--airtwin PATH] [--out DIR]
@@ -28,6 +29,10 @@
 #                extended model (OUT/discrepancy/, OUT/batch_extended/); with --multi also
 #                the aggregations planned with it, and the sorting with the extended model
 #                of its own logs (seeds 101-105; OUT/sorting_discrepancy/)
+#   --pushes     after the batch: the pushes the line search makes recorded in the twin
+#                (`airtwin region --twin --trajectories-out`, D 20, 30 and 41.8 cm on a 0.2 m
+#                grid, seed 11), `airtwin discrepancy` on them with the identified model, and the
+#                batch again planning with that extended model (OUT/pushes/, OUT/batch_pushes/)
 #   --model FILE plan with this identified model instead of collecting and identifying one
 #   --multi      also the multi-object tasks: the aggregation with the scenario file's settings
 #                and with the paper's (mu0 41.8 cm, Sigma0 20.9 cm^2), and the sorting, its
@@ -38,6 +43,7 @@ cd "$(dirname "$0")/.."
 seeds=10
 first_seed=1
 discrepancy=0
+pushes=0
 physics=""
 airtwin=build/airtwin
 out=results/physical_twin_closed_loop
@@ -50,6 +56,7 @@ while [ $# -gt 0 ]; do
     --seeds) seeds="$2"; shift 2 ;;
     --first-seed) first_seed="$2"; shift 2 ;;
     --discrepancy) discrepancy=1; shift ;;
+    --pushes) pushes=1; shift ;;
     --no-formation) formation+=(--no-air-formation); shift ;;
     --turbulence-lagrangian) formation+=(--no-air-turbulence-swept); shift ;;
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
@@ -60,7 +67,7 @@ while [ $# -gt 0 ]; do
     --cotton-physics) cotton_physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -71,6 +78,7 @@ twin=(--air cfd --drag physical "${formation[@]}")
 [ -z "$physics" ] || twin+=(--object-physics "$physics")
 mkdir -p "$out/scenes"
 rm -rf "$out/batch" "$out/batch_multi" "$out/discrepancy_runs" "$out/discrepancy" \
+  "$out/pushes" "$out/batch_pushes" \
   "$out/batch_extended" "$out/batch_multi_extended" "$out/sorting_discrepancy_runs" \
   "$out/sorting_discrepancy" "$out/batch_sorting_extended"
 
@@ -91,6 +99,21 @@ seed_range=(--seeds "$seeds" --first-seed "$first_seed")
 "$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml "${seed_range[@]}" --quiet \
   "${twin[@]}" --table "$table" --model "$out/tracer_model.json" --out "$out/batch"
 cat "$out/batch/report.md"
+
+if [ "$pushes" = 1 ]; then
+  # The pushes the line search makes, recorded before any task runs, analysed as a rig's data.
+  for d in 0.2 0.3 0.418; do
+    "$airtwin" region --twin --quiet "${twin[@]}" --table "$table" \
+      --model "$out/tracer_model.json" --step 0.2 --distance "$d" --seed 11 \
+      --trajectories-out "$out/pushes/pushes_$d.csv" --out "$out/pushes/region_$d" > /dev/null
+  done
+  "$airtwin" discrepancy "$out"/pushes/pushes_{0.2,0.3,0.418}.csv --quiet --table "$table" \
+    --model "$out/tracer_model.json" --out "$out/pushes/discrepancy"
+  "$airtwin" batch "$out"/scenes/{line,square,letter_A,octagon}.yaml "${seed_range[@]}" --quiet \
+    "${twin[@]}" --table "$table" --model "$out/pushes/discrepancy/extended_model.json" \
+    --out "$out/batch_pushes"
+  cat "$out/batch_pushes/report.md"
+fi
 
 if [ "$discrepancy" = 1 ]; then
   # The closed-loop logs of calibration seeds (not the batch's), analysed as a rig's would be.
