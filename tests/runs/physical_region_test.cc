@@ -11,19 +11,12 @@
 #include "models/air_field.h"
 #include "runs/manipulation_region.h"
 #include "runs/scenario_run.h"
-#include "tests/support/shipped_cfd.h"
+#include "tests/support/physical_twin.h"
 
 namespace airtwin {
 namespace {
 
-// The physical twin every command builds by default (as tests/sim/twin_calibration_test.cc).
-TwinParameters physical_twin() {
-  TwinParameters p;
-  p.scene.tracer.use_physical_drag();
-  p.scene.cotton.use_physical_drag();
-  p.cfd_air = testing::shipped_cfd();
-  return p;
-}
+using testing::physical_twin;
 
 // The grid +-0.8 m at 0.2 m, 8 directions (648 pushes), judged by the model of each file and,
 // once, by the twin (the pushes' s and orientations are the field model's, whatever the model).
