@@ -57,7 +57,10 @@ void run_region(const RegionArgs& a, const CLI::App& sub) {
   std::optional<Scenario> scenario;
   if (!a.scenario.empty()) {
     scenario = read_scenario(a.scenario);
-    if (sub.count("--distance") == 0) o.distance_m = scenario->controller.mean0_m;
+    // A plane search's mu0 is a point, not a distance behind the object: D stays the flag's.
+    if (sub.count("--distance") == 0 && scenario->controller.search == CemSearch::kLine) {
+      o.distance_m = scenario->controller.mean0_m;
+    }
     if (sub.count("--horizon") == 0) o.horizon_s = scenario->controller.horizon_s;
     if (sub.count("--object") == 0) o.object = scenario->scene.objects.front().type;
   }
@@ -128,8 +131,8 @@ void add_region_command(CLI::App& app) {
       "docs/controller.md.");
   RegionOptions& o = args->options;
   sub->add_option("--scenario", args->scenario,
-                  "A scenario file: its controller's mu0 is D and its horizon Delta T, its first\n"
-                  "object's type the object (unless --distance, --horizon, --object say\n"
+                  "A scenario file: its line search's mu0 is D and its horizon Delta T, its\n"
+                  "first object's type the object (unless --distance, --horizon, --object say\n"
                   "otherwise), and its path or zones and objects are drawn over the maps");
   sub->add_option("--object", o.object, "tracer | cotton")->capture_default_str();
   sub->add_option("--extent", o.extent_m, "The grid covers [-E, E]^2 (m)")->capture_default_str();

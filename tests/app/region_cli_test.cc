@@ -140,6 +140,12 @@ TEST(RegionCli, ScenarioSetsTheDistanceHorizonAndObject) {
   j = nlohmann::json::parse(file_text(d + "/region.json"));
   EXPECT_EQ(j["distance_m"], 0.3);
   EXPECT_EQ(j["horizon_s"], 1.0);
+  // The sorting's plane search has no distance: D stays the default, the object its first.
+  ASSERT_EQ(
+      run_airtwin("region" + kSmall + "--scenario " + scenes + "sorting.yaml --out " + d).exit_code,
+      0);
+  j = nlohmann::json::parse(file_text(d + "/region.json"));
+  EXPECT_EQ(j["distance_m"], 0.418);
   const auto bad = run_airtwin("region --scenario " + scenes + "nosuch.yaml --out " + d);
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
