@@ -14,12 +14,10 @@
 #include "models/trajectory_data.h"
 #include "sim/collection.h"
 #include "sim/dynamics_calibration.h"
-#include "tests/support/physical_twin.h"
+#include "tests/support/shipped_cfd.h"
 
 namespace airtwin {
 namespace {
-
-using testing::physical_twin;
 
 IdentifiedModel collect_and_identify(const std::string& object, int per_tilt, std::uint64_t seed,
                                      const IdentificationOptions& options = {}) {
@@ -126,6 +124,14 @@ TEST(TwinCalibration, RepeatabilityFromOneStartIsNearThePapers) {
 // parameters; docs/twin.md, "Physical drag"): its Appendix D collection of seed 202 (held out from
 // the calibration's seed 101) is the one scripts/fit_twin_models.sh identifies the controller's
 // models from. Written and read as the CSV `collect` writes and `identify` reads.
+TwinParameters physical_twin() {
+  TwinParameters p;
+  p.scene.tracer.use_physical_drag();
+  p.scene.cotton.use_physical_drag();
+  p.cfd_air = testing::shipped_cfd();
+  return p;
+}
+
 IdentifiedModel physical_twin_identified(const std::string& object) {
   CollectionOptions o;
   o.object = object;
