@@ -15,6 +15,19 @@
 #include "sim/collection.h"
 
 namespace airtwin {
+namespace {
+
+// Grid points from the origin to the grid's edge along an axis.
+int half_count(const RegionOptions& o) {
+  return static_cast<int>(std::floor(o.extent_m / o.step_m + 1e-9));
+}
+
+// The verdict of a judge's end: the object went at least min_travel along the push.
+bool moved(const RegionPush& push, const Eigen::Vector2d& end_W, const RegionOptions& o) {
+  return travel_along(push, end_W) >= o.min_travel_m;
+}
+
+}  // namespace
 
 void RegionOptions::validate() const {
   if (object != "tracer" && object != "cotton") {
@@ -48,7 +61,7 @@ void RegionOptions::validate() const {
   if (threads < 0 || threads > 256) {
     throw FieldError("region.threads", "expected a count in [0, 256]");
   }
-  const double side = 2.0 * std::floor(extent_m / step_m + 1e-9) + 1.0;
+  const double side = 2.0 * half_count(*this) + 1.0;
   if (side * side * directions > kMaxRegionPushes) {
     throw FieldError("region.step_m",
                      "the grid and directions make " +
@@ -74,7 +87,7 @@ double travel_along(const RegionPush& push, const Eigen::Vector2d& end_W) {
 
 std::vector<RegionPush> plan_region(const RegionOptions& options, const NozzleGeometry& geometry) {
   options.validate();
-  const int n_side = static_cast<int>(std::floor(options.extent_m / options.step_m + 1e-9));
+  const int n_side = half_count(options);
   std::vector<RegionPush> pushes;
   for (int iy = -n_side; iy <= n_side; ++iy) {
     for (int ix = -n_side; ix <= n_side; ++ix) {
@@ -191,15 +204,15 @@ RegionJudgement judge(const std::vector<RegionPush>& pushes, const RegionOptions
         every = false;
         continue;
       }
-      const bool moved = travel_along(push, *end) >= options.min_travel_m;
+      const bool went = moved(push, *end, options);
       RegionTally& c = j.by_class[static_cast<size_t>(push.push_class)];
       ++j.all.of;
       ++c.of;
-      if (moved) {
+      if (went) {
         ++j.all.moved;
         ++c.moved;
       }
-      every = every && moved;
+      every = every && went;
     }
     if (every) ++j.region_points;
   }
@@ -247,8 +260,8 @@ RegionSummary summarize_region(const std::vector<RegionPush>& pushes,
     any_model = any_model || push.model_end_W.has_value();
     any_twin = any_twin || push.twin_end_W.has_value();
     if (push.model_end_W && push.twin_end_W) {
-      const bool m = travel_along(push, *push.model_end_W) >= options.min_travel_m;
-      const bool t = travel_along(push, *push.twin_end_W) >= options.min_travel_m;
+      const bool m = moved(push, *push.model_end_W, options);
+      const bool t = moved(push, *push.twin_end_W, options);
       (m ? (t ? s.both : s.model_only) : (t ? s.twin_only : s.neither))++;
     }
   }
@@ -347,10 +360,9 @@ void write_region_png(const std::vector<RegionPush>& pushes, const RegionSummary
     p.title = title;
     for (const RegionPush& push : pushes) {
       const std::optional<Eigen::Vector2d>& e = push.*end;
-      p.verdicts.push_back(!push.reachable() || !e ? plots::PushVerdict::kUnreachable
-                           : travel_along(push, *e) >= options.min_travel_m
-                               ? plots::PushVerdict::kMoved
-                               : plots::PushVerdict::kStill);
+      p.verdicts.push_back(!push.reachable() || !e    ? plots::PushVerdict::kUnreachable
+                           : moved(push, *e, options) ? plots::PushVerdict::kMoved
+                                                      : plots::PushVerdict::kStill);
     }
     plot.panels.push_back(p);
   };
