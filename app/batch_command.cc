@@ -120,6 +120,8 @@ ordered_json batch_settings(const BatchArgs& a) {
   s["effects"] = f.effects;
   s["scene"] = f.mjcf.empty() ? ordered_json("built") : scene_identity(f.mjcf);
   s["air"] = air_identity(f.air);
+  const PhysicsVariation variation = physics_variation_of(f);
+  if (variation.active()) s["physics_variation"] = variation.to_string();
   s["logs"] = a.logs;
   // The program itself: another build may give other results, so it may not resume this batch.
   s["program"] = content_hash(read_text_file("/proc/self/exe"));

@@ -33,6 +33,12 @@ void add_run_setup_flags(CLI::App* sub, RunSetupFlags& f, const std::string& cal
   sub->add_option("--mjcf", f.mjcf,
                   "Simulate this MJCF scene (e.g. `airtwin scene`'s scene.xml, edited) instead of\n"
                   "building it; the scenario still gives the task and the objects (docs/twin.md)");
+  sub->add_option(
+         "--vary-physics", f.vary_physics,
+         "Each object gets its own physics, drawn from the seed: 'documented' (every\n"
+         "parameter uniform over the range docs/twin.md gives for its type) or a spread F\n"
+         "in (0, 0.5] (within +-F of its type's value); mass, C_D, mu_k, mu_s/mu_k, C_L")
+      ->capture_default_str();
   sub->add_flag(
       "--vision", f.vision,
       "The controller sees through the detection pipeline on rendered frames (calibrated\n"
@@ -61,6 +67,19 @@ void check_run_setup_flags(const RunSetupFlags& f) {
   TwinParameters scratch;
   apply_effect_flags(f.effects, &scratch);
   check_air_flags(f.air);
+  if (physics_variation_of(f).active() && !f.mjcf.empty()) {
+    throw UsageError(
+        "--vary-physics needs the scene the twin builds: a --mjcf scene keeps its "
+        "own masses and friction");
+  }
+}
+
+PhysicsVariation physics_variation_of(const RunSetupFlags& f) {
+  try {
+    return PhysicsVariation::parse(f.vary_physics, "--vary-physics");
+  } catch (const FieldError& e) {
+    throw UsageError(e.what());
+  }
 }
 
 std::vector<std::string> controller_models(const RunSetupFlags& f) {
@@ -77,6 +96,7 @@ ScenarioRunOptions run_options_of(const RunSetupFlags& f) {
   apply_air_flags(f.air, &options.twin);
   apply_effect_flags(f.effects, &options.twin);
   options.twin.scene_file = f.mjcf;
+  options.physics_variation = physics_variation_of(f);
   // The dynamics the controller plans with, per object type (and an extended model's
   // extensions).
   const std::vector<std::string> models = controller_models(f);

@@ -25,17 +25,24 @@ struct RunSetupFlags {
   std::string calib;
   double vision_rate_hz = 10.0;
   std::string noise = "none";
+  /// --vary-physics: none, documented or a spread (sim/physics_variation.h).
+  std::string vary_physics = "none";
   AirFlags air;
 };
 
-/// Adds --table, --model, --effect, --air, --cfd, --mjcf, --vision, --calib, --vision-rate and
-/// --noise to `sub`.
+/// Adds --table, --model, --effect, --air, --cfd, --mjcf, --vary-physics, --vision, --calib,
+/// --vision-rate and --noise to `sub`.
 /// `calib_default` completes --calib's help: what happens without it.
 void add_run_setup_flags(CLI::App* sub, RunSetupFlags& flags, const std::string& calib_default);
 
 /// Throws UsageError naming the flag: vision-only flags without --vision, an unknown --noise, a
-/// --vision-rate that does not divide the camera's 40 Hz, a malformed --effect. Reads no file.
+/// --vision-rate that does not divide the camera's 40 Hz, a malformed --effect or
+/// --vary-physics, --vary-physics with --mjcf (a user's scene keeps its own masses and
+/// friction). Reads no file.
 void check_run_setup_flags(const RunSetupFlags& flags);
+
+/// --vary-physics's variation; UsageError naming the flag and the text when malformed.
+PhysicsVariation physics_variation_of(const RunSetupFlags& flags);
 
 /// The dynamics the controller plans with, unless --model names others: in the physical twin (CFD
 /// air, physical drag) the dynamics identified in it and extended by the discrepancy analysis of

@@ -18,10 +18,11 @@ enum class RandomPurpose : uint64_t {
   kHeading = 2,
   kTurbulence = 3,
   kCollection = 4,
-  kController = 5,   // the CEM planner's samples
-  kScenario = 6,     // randomised scenario layouts
-  kAnalysis = 7,     // the discrepancy analysis's train / held-out split
-  kMeasurement = 8,  // simulated instrument campaigns (models/hotwire.h)
+  kController = 5,     // the CEM planner's samples
+  kScenario = 6,       // randomised scenario layouts
+  kAnalysis = 7,       // the discrepancy analysis's train / held-out split
+  kMeasurement = 8,    // simulated instrument campaigns (models/hotwire.h)
+  kObjectPhysics = 9,  // objects of one type that differ (sim/physics_variation.h)
 };
 
 class RandomStream {

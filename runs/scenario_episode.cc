@@ -9,6 +9,7 @@
 #include "common/errors.h"
 #include "models/nozzle_geometry.h"
 #include "rigs/twin_rig.h"
+#include "sim/physics_variation.h"
 
 namespace airtwin {
 namespace {
@@ -50,6 +51,13 @@ TwinParameters start_parameters(const Scenario& scenario, const AirFieldModel& p
   return params;
 }
 
+// The twin's objects: the scenario's, each drawn its own physics when the options vary them.
+SceneSpec objects_of_run(const Scenario& scenario, const ScenarioRunOptions& options) {
+  SceneSpec scene = scenario.scene;
+  vary_object_physics(options.physics_variation, options.twin.scene, options.seed, &scene);
+  return scene;
+}
+
 LoopOptions loop_options_of(const Scenario& scenario) {
   LoopOptions o;
   o.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
@@ -67,7 +75,8 @@ struct ScenarioEpisode::Impl {
         // The field the controller plans with: the twin's, or the one the options give.
         planning(options.planning_field ? *options.planning_field : field_model),
         params(start_parameters(scenario, planning, options)),
-        twin(scenario.scene, params, field_model, options.seed),
+        scene(objects_of_run(scenario, options)),
+        twin(scene, params, field_model, options.seed),
         metrics(scenario.task),
         controller(planning, scenario.controller, scenario.task, options.dynamics, options.seed,
                    kForgetAfter, options.planning_extensions),
@@ -76,6 +85,13 @@ struct ScenarioEpisode::Impl {
     run.scenario = scenario.name;
     run.seed = options.seed;
     run.n_objects = static_cast<int>(scenario.scene.objects.size());
+    if (options.physics_variation.active()) {
+      run.physics_variation = options.physics_variation.to_string();
+      for (const ObjectSpec& o : scene.objects) {
+        run.object_physics.push_back(
+            {o.id, object_physics_to_string(*o.physics, parse_object_type(o.type, o.id))});
+      }
+    }
 
     // The perception: the twin's truth, or the detection pipeline on its rendered frames.
     Perception* perception = &truth;
@@ -154,6 +170,7 @@ struct ScenarioEpisode::Impl {
   ScenarioRunOptions options;
   const AirFieldModel& planning;
   TwinParameters params;
+  SceneSpec scene;  // the scenario's objects, each with its own physics when they vary
   Twin twin;
   TruthPerception truth;
   std::unique_ptr<VisionPerception> vision;

@@ -100,6 +100,12 @@ std::string run_summary_json(const ScenarioRunResult& r, double time_limit_s) {
   j["controller_done"] = r.loop.success;
   j["objects_seen_at_end"] = r.loop.objects_seen_at_end;
   j["lost_every_object"] = r.loop.lost_every_object;
+  if (!r.physics_variation.empty()) {
+    j["physics_variation"] = r.physics_variation;
+    ordered_json objects = ordered_json::object();
+    for (const auto& o : r.object_physics) objects[o.id] = o.physics;
+    j["object_physics"] = objects;
+  }
   if (r.perception == "vision") {
     const TrackerCounters& c = r.vision_counters;
     j["vision"] = {{"frames", r.vision_frames},

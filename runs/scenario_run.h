@@ -22,6 +22,7 @@
 #include "models/trajectory_data.h"
 #include "rigs/vision_perception.h"
 #include "scenes/scenario.h"
+#include "sim/physics_variation.h"
 #include "sim/twin.h"
 #include "vision/calibrated_camera.h"
 
@@ -31,6 +32,9 @@ struct ScenarioRunOptions {
   uint64_t seed = 0;
   /// The twin's fixed physics (defaults: the calibrated twin of docs/twin.md).
   TwinParameters twin;
+  /// Active: each object gets its own physics drawn from `seed` (sim/physics_variation.h)
+  /// around or instead of its type's in `twin.scene`.
+  PhysicsVariation physics_variation;
   /// eq. (8) coefficients the controller plans with, per object type (defaults: the paper's).
   std::map<std::string, ObjectDynamics> dynamics = {{"tracer", kTracerDynamics},
                                                     {"cotton", kCottonDynamics}};
@@ -62,6 +66,14 @@ struct ScenarioRunResult {
   double max_pairwise_distance_m = 0.0;
   int objects_in_zone = 0;
   int n_objects = 0;
+  /// With ScenarioRunOptions::physics_variation active: its text, and each object's id and the
+  /// physics it was given ("tracer:mass_g=...,cd=...", sim/object_physics.h); empty otherwise.
+  std::string physics_variation;
+  struct ObjectPhysicsRecord {
+    std::string id;
+    std::string physics;
+  };
+  std::vector<ObjectPhysicsRecord> object_physics;
   /// From this time (s) to the run's end no object moved more than 1 cm (RunMetrics).
   double still_since_s = 0.0;
   double decision_ms_mean = 0.0, decision_ms_max = 0.0;
@@ -129,7 +141,8 @@ ScenarioRunResult run_scenario(const Scenario& scenario, const AirFieldModel& fi
 /// path_error_cm {mean, std, max} (null for zone tasks), max_pairwise_distance_cm,
 /// objects_in_zone, n_objects, decisions, decision_ms {mean, max}, then end_time_s,
 /// time_limit_s, perception and controller_done (the controller's own verdict; `success` also
-/// asks the truth, see ScenarioRunResult). 2-space indented.
+/// asks the truth, see ScenarioRunResult); with varied objects, physics_variation and
+/// object_physics (id -> "type:key=value,..."). 2-space indented.
 std::string run_summary_json(const ScenarioRunResult& result, double time_limit_s);
 
 /// decisions.csv: t,reference_index,ref_x,ref_y,s_x,s_y,pan_deg,tilt_deg,cost,iterations,

@@ -85,11 +85,11 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     const SceneObject& obj = objects_[o];
     AIRTWIN_DEMAND(obj.bodies.size() <= kMaxBodiesPerObject &&
                    obj.bodies.size() == obj.area_share.size());
-    const ObjectTypeParameters& t = scene.of(obj.type);
+    const ObjectTypeParameters& t = physics_of(obj, scene);
     if (t.drag_law == DragLaw::kPhysical &&
         !(t.drag_coefficient >= 0.0 && t.frontal_area_m2 > 0.0 && t.drag_length_m > 0.0 &&
           scene.air_density_kgpm3 > 0.0 && scene.air_viscosity_m2ps > 0.0)) {
-      throw InputError(std::string("object type ") + object_type_name(obj.type) +
+      throw InputError("object '" + obj.id + "' (" + object_type_name(obj.type) + ")" +
                        ": physical drag needs drag_coefficient >= 0, frontal_area_m2 > 0, "
                        "drag_length_m > 0 and a positive air density and viscosity");
     }

@@ -161,7 +161,10 @@ void apply_object_physics(const std::string& text, SceneParameters* scene) {
 }
 
 std::string object_physics_to_string(const SceneParameters& scene, ObjectType type) {
-  const ObjectTypeParameters& p = scene.of(type);
+  return object_physics_to_string(scene.of(type), type);
+}
+
+std::string object_physics_to_string(const ObjectTypeParameters& p, ObjectType type) {
   std::string out = object_type_name(type);
   char sep = ':';
   for (const ObjectPhysicsSpec& s : kCatalogue) {

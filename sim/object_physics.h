@@ -65,6 +65,8 @@ void apply_object_physics(const std::string& text, SceneParameters* scene);
 /// Every settable parameter of `type` in `scene`, "type:key=value,..." in catalogue order (the
 /// physical law's keys only when the type uses it), for recording what a run used.
 std::string object_physics_to_string(const SceneParameters& scene, ObjectType type);
+/// The same for the parameters `p` of one object of `type`.
+std::string object_physics_to_string(const ObjectTypeParameters& p, ObjectType type);
 
 /// One line per key: unit, range, meaning (for --help).
 std::string object_physics_help();

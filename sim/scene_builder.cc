@@ -290,6 +290,7 @@ SceneObject find_object(const mjModel* m, const SceneSpec& spec, size_t i) {
   SceneObject obj;
   obj.id = spec.objects[i].id;
   obj.type = parse_object_type(spec.objects[i].type, where_object(spec, i));
+  obj.physics = spec.objects[i].physics;
   obj.root_body = mj_name2id(m, mjOBJ_BODY, object_body_name(i).c_str());
   if (obj.root_body < 0) return obj;
   for (int b = 0; b < m->nbody; ++b) {
@@ -408,6 +409,14 @@ void validate_scene(const SceneSpec& spec, const SceneParameters& params) {
     if (o.yaw_rad && !std::isfinite(*o.yaw_rad)) {
       throw InputError(where + ": yaw must be finite, got " + num(*o.yaw_rad));
     }
+    if (o.physics) {
+      validate_type_parameters(*o.physics, where + " physics");
+      if (o.physics->diameter_m != params.of(type).diameter_m) {
+        throw InputError(where + ": physics.diameter_m must be the " + o.type + "'s " +
+                         num(params.of(type).diameter_m) + " m (the geometry is the type's), got " +
+                         num(o.physics->diameter_m));
+      }
+    }
     radius[i] = 0.5 * params.of(type).diameter_m *
                 (type == ObjectType::kCotton ? 1.0 + params.cotton_irregularity : 1.0);
     const double reach = std::max(std::abs(o.p_W.x()), std::abs(o.p_W.y())) + radius[i];
@@ -488,8 +497,9 @@ std::string scene_xml(const SceneSpec& spec, const SceneParameters& params, uint
     const ObjectSpec& o = spec.objects[i];
     const ObjectType type = parse_object_type(o.type, where_object(spec, i));
     const double yaw = heading(o, seed, i);
-    s << (type == ObjectType::kTracer ? tracer_body(i, o, yaw, params.tracer)
-                                      : cotton_body(i, o, yaw, params.cotton));
+    const ObjectTypeParameters& physics = o.physics ? *o.physics : params.of(type);
+    s << (type == ObjectType::kTracer ? tracer_body(i, o, yaw, physics)
+                                      : cotton_body(i, o, yaw, physics));
   }
   s << "</worldbody>\n</mujoco>\n";
   return s.str();
@@ -630,6 +640,10 @@ BuiltScene load_scene(const std::string& path, const SceneSpec& spec,
   scene.xml = text.str();
   index_scene(scene, spec, params, path);
   return scene;
+}
+
+const ObjectTypeParameters& physics_of(const SceneObject& object, const SceneParameters& params) {
+  return object.physics ? *object.physics : params.of(object.type);
 }
 
 }  // namespace airtwin

@@ -27,6 +27,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,12 @@ struct SceneObject {
   /// force, and the object's reported position, are split and weighted by it.
   std::vector<double> area_share;
   double mass_kg = 0.0;  ///< total mass of the bodies, from the compiled model
+  /// The object's own physics when its spec had one (ObjectSpec::physics); unset: its type's.
+  std::optional<ObjectTypeParameters> physics;
 };
+
+/// The physics `object` was built with: its own, or its type's in `params`.
+const ObjectTypeParameters& physics_of(const SceneObject& object, const SceneParameters& params);
 
 /// A compiled scene.
 struct BuiltScene {

@@ -39,20 +39,6 @@ enum class ObjectType { kTracer, kCotton };
 /// "tracer" or "cotton".
 const char* object_type_name(ObjectType type);
 
-/// One object of a scenario.
-struct ObjectSpec {
-  std::string id;                 ///< unique, non-empty; names the object in messages and output
-  std::string type;               ///< "tracer" | "cotton"
-  Eigen::Vector2d p_W{0.0, 0.0};  ///< start position on the floor (m), world frame
-  std::optional<double> yaw_rad;  ///< start heading (rad); unset: drawn from the twin's seed
-};
-
-/// The objects of one run. `source` names the scenario in error messages ("scenes/line.yaml").
-struct SceneSpec {
-  std::vector<ObjectSpec> objects;
-  std::string source = "scene";
-};
-
 /// How the air pushes an object (sim/air_forces.h).
 enum class DragLaw {
   /// F = c (k u - v): eq. (8) read as physics (drag_rate_per_s, air_gain).
@@ -111,6 +97,23 @@ struct ObjectTypeParameters {
 
   /// The eq. (8) coefficients these parameters reproduce on a flat floor (the inverse mapping).
   ObjectDynamics dynamics(double gravity_mps2 = 9.81) const;
+};
+
+/// One object of a scenario.
+struct ObjectSpec {
+  std::string id;                 ///< unique, non-empty; names the object in messages and output
+  std::string type;               ///< "tracer" | "cotton"
+  Eigen::Vector2d p_W{0.0, 0.0};  ///< start position on the floor (m), world frame
+  std::optional<double> yaw_rad;  ///< start heading (rad); unset: drawn from the twin's seed
+  /// This object's own physics (sim/physics_variation.h: objects of one type that differ);
+  /// unset: its type's in SceneParameters. Its diameter must be the type's: the geometry is.
+  std::optional<ObjectTypeParameters> physics = std::nullopt;
+};
+
+/// The objects of one run. `source` names the scenario in error messages ("scenes/line.yaml").
+struct SceneSpec {
+  std::vector<ObjectSpec> objects;
+  std::string source = "scene";
 };
 
 /// The fixed description of the twin's world (not per run).

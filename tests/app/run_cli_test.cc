@@ -234,11 +234,16 @@ TEST(RunCli, BadInputIsOneClearLine) {
   EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
 
   const std::string line = "run " + kScenes + "line.yaml --out " + d + "/o ";
-  for (const std::string flags : {"--video-stride 0", "--noise low", "--vision --noise medium",
-                                  "--vision --vision-rate 7", "--calib c.yaml"}) {
+  for (const std::string flags :
+       {"--video-stride 0", "--noise low", "--vision --noise medium", "--vision --vision-rate 7",
+        "--calib c.yaml", "--vary-physics 0.7", "--vary-physics lots",
+        "--vary-physics 0.1 --mjcf scene.xml"}) {
     const auto r = run_airtwin(line + flags);
     EXPECT_EQ(r.exit_code, 2) << flags;
     EXPECT_EQ(count_lines(r.err), 1) << flags << ": " << r.err;
+    if (flags.rfind("--vary", 0) == 0) {
+      EXPECT_NE(r.err.find("--vary-physics"), std::string::npos) << r.err;
+    }
   }
   // Flags are checked before anything is written.
   EXPECT_FALSE(std::ifstream(d + "/o/summary.json").good());

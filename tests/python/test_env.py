@@ -188,6 +188,11 @@ def test_bad_options_raise_value_error_with_the_librarys_message(tmp_path):
         with pytest.raises(ValueError) as again:
             airtwin.Twin(LINE, 1, **kwargs)
         assert str(again.value) == str(raised.value)
+    # Objects that differ: the library's field is the CLI's flag.
+    with pytest.raises(ValueError) as raised:
+        AirJetEnv("line", vary_physics="lots")
+    flag_message = "--" + str(raised.value).replace("_", "-", 1)
+    assert cli_usage_line("--vary-physics", "lots") == flag_message
     # A user's MJCF that is not a scene: the CLI's line.
     bad = tmp_path / "bad.xml"
     bad.write_text("<mujoco><worldbody/></mujoco>")

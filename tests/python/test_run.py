@@ -1,5 +1,6 @@
 """airtwin.run_scenario against `airtwin run` on the same scenario and seed."""
 
+import json
 import os
 
 import numpy as np
@@ -194,3 +195,26 @@ def test_a_run_with_the_controllers_models_equals_the_cli_run(tmp_path):
     missing = tmp_path / "missing.json"
     expect_cli_error(lambda: airtwin.run_scenario(LINE, 1, models=[str(missing)]), "run", LINE,
                      "--model", missing, "--out", tmp_path / "r")
+
+
+def test_varied_objects_equal_the_cli_run(tmp_path):
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 1, "--vary-physics", "0.2", "--quiet",
+                                "--out", out)
+    assert status == 0, stderr
+    cfd = airtwin.CfdField.read_dir()
+    result = airtwin.run_scenario(str(scenario), 1, cfd=cfd, vary_physics="0.2")
+    assert result.log_csv() == (out / "log.csv").read_text()
+    summary = json.loads(result.summary_json())
+    cli = json.loads((out / "summary.json").read_text())
+    assert summary["physics_variation"] == "0.2"
+    assert summary["object_physics"] == cli["object_physics"]
+    assert summary["object_physics"]["t1"].startswith("tracer:mass_g=")
+    # The type's own tracer runs elsewhere, and its record lists no object physics.
+    plain = airtwin.run_scenario(str(scenario), 1, cfd=cfd)
+    assert plain.log_csv() != result.log_csv()
+    assert "object_physics" not in json.loads(plain.summary_json())
+    with pytest.raises(ValueError, match="vary_physics.*'0.7'"):
+        airtwin.run_scenario(str(scenario), 1, cfd=cfd, vary_physics="0.7")

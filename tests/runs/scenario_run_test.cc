@@ -6,6 +6,9 @@
 #include <vector>
 
 #include "models/trajectory_data.h"
+#include "sim/object_physics.h"
+#include "sim/physics_variation.h"
+#include "tests/support/physical_twin.h"
 
 namespace airtwin {
 namespace {
@@ -114,6 +117,35 @@ TEST(ScenarioRun, SameSeedSameBytesOtherSeedOtherRun) {
   const std::string c = trajectory_csv(run_scenario(sc, field, options).log);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+// Objects that differ (sim/physics_variation.h), in the physical twin: each object's drawn
+// physics is the run's, listed in its record as drawn from the seed; the run repeats bit for bit
+// and differs from the run of the type's own objects, whose record lists none.
+TEST(ScenarioRun, VariedObjectsAreRecordedAndTheRunRepeats) {
+  const Scenario sc = read_scenario(scene("line"));
+  const AirFieldModel field = testing::cfd_fitted_field();
+  ScenarioRunOptions options = testing::physical_twin_run_options(field);
+  options.seed = 5;
+  const ScenarioRunResult plain = run_scenario(sc, field, options);
+  options.physics_variation = PhysicsVariation::parse("0.2");
+  const ScenarioRunResult a = run_scenario(sc, field, options);
+  const ScenarioRunResult b = run_scenario(sc, field, options);
+  EXPECT_TRUE(trajectory_csv(a.log) == trajectory_csv(b.log)) << "a rerun differs";
+  EXPECT_FALSE(trajectory_csv(a.log) == trajectory_csv(plain.log)) << "the variation did nothing";
+  EXPECT_EQ(a.physics_variation, "0.2");
+  ASSERT_EQ(a.object_physics.size(), sc.scene.objects.size());
+  EXPECT_EQ(a.object_physics[0].id, sc.scene.objects[0].id);
+  EXPECT_EQ(
+      a.object_physics[0].physics,
+      object_physics_to_string(draw_object_physics(options.physics_variation, ObjectType::kTracer,
+                                                   options.twin.scene.tracer, 5, 0),
+                               ObjectType::kTracer));
+  const std::string summary = run_summary_json(a, sc.task.time_limit_s);
+  EXPECT_NE(summary.find("\"physics_variation\": \"0.2\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find(a.object_physics[0].physics), std::string::npos) << summary;
+  EXPECT_EQ(run_summary_json(plain, sc.task.time_limit_s).find("object_physics"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -120,6 +120,42 @@ TEST(AirForces, PhysicalDragIsQuadraticWithAViscousPart) {
   EXPECT_THROW(AirForces(AirForceParameters::none(), scene, {f.object}, 1, 0.001), InputError);
 }
 
+// An object's own physics (ObjectSpec::physics, objects that differ) replaces its type's in the
+// force law: the same formula with the object's C_D, area and C_L.
+TEST(AirForces, AnObjectsOwnPhysicsReplacesItsTypes) {
+  const AirFieldModel field_model = AirFieldModel::with_constructed_table();
+  const OrientedField field = field_model.at({0.4, 0.3});
+  SceneParameters scene;
+  scene.tracer.use_physical_drag();
+  ObjectTypeParameters own = scene.tracer;
+  own.drag_coefficient = 0.8;
+  own.frontal_area_m2 = 2.0 * scene.tracer.frontal_area_m2;
+  own.lift_coefficient = 0.05;
+  const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
+  const Eigen::Vector2d u_rel = field.velocity(p) - v;
+  const double re = u_rel.norm() * own.drag_length_m / scene.air_viscosity_m2ps;
+  Eigen::Vector2d a[2];
+  for (int k = 0; k < 2; ++k) {
+    Floating f;
+    if (k == 1) f.object.physics = own;
+    AirForces air(AirForceParameters::none(), scene, {f.object}, 1, 0.001);
+    air.set_air(field, 1.0);
+    push_at(f, air, v);
+    a[k] = planar_acceleration(f.data.get());
+    if (k == 0) continue;
+    const Eigen::Vector2d expected = 0.5 * scene.air_density_kgpm3 *
+                                     (own.drag_coefficient + 24.0 / re) * own.frontal_area_m2 *
+                                     u_rel.norm() * u_rel / f.object.mass_kg;
+    EXPECT_LT((a[1] - expected).norm(), 1e-9 * expected.norm());
+    const double r = 0.5 * own.diameter_m;
+    const double lift = 0.5 * scene.air_density_kgpm3 * own.lift_coefficient * kPi * r * r *
+                        u_rel.squaredNorm() / f.object.mass_kg;
+    EXPECT_NEAR(f.data->qacc[2], lift, 1e-9 * lift);
+  }
+  // The type's own force is another one (C_D 0.35, A half): over twice as strong here.
+  EXPECT_GT(a[1].norm(), 2.0 * a[0].norm());
+}
+
 // The tracer's centre of mass sits above its body origin (the flat face, where the force acts).
 // The drag must take the velocity of that point, not the centre's: a spinning body then loses
 // energy to the drag, never gains it. (On the centre's velocity, a tumbling tracer gained spin

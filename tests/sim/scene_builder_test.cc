@@ -221,6 +221,55 @@ TEST(SceneBuilder, BadParametersAreInputErrors) {
   EXPECT_THROW(build_scene(spec, params, 1), InputError);
 }
 
+// An object's own physics (ObjectSpec::physics) is compiled into its bodies: its mass, split over
+// a wad's elements, and its friction on its geoms; the other objects keep their type's. Its
+// geometry stays the type's, and a bad value names the object.
+TEST(SceneBuilder, AnObjectsOwnPhysicsReachesItsBodies) {
+  SceneSpec spec = mixed_scene();
+  SceneParameters params;
+  params.tracer.use_physical_drag();
+  params.cotton.use_physical_drag();
+  ObjectTypeParameters tracer = params.tracer, cotton = params.cotton;
+  tracer.mass_kg = 0.15e-3;
+  tracer.kinetic_friction = tracer.physical_kinetic_friction = 0.47;
+  cotton.mass_kg = 0.24e-3;
+  cotton.kinetic_friction = cotton.physical_kinetic_friction = 0.55;
+  spec.objects[2].physics = tracer;  // t1
+  spec.objects[3].physics = cotton;  // c1
+  const BuiltScene scene = build_scene(spec, params, 1);
+  const mjModel* m = scene.model.get();
+  const double expected_mass[5] = {0.16e-3, 0.22e-3, 0.15e-3, 0.24e-3, 0.16e-3};
+  const double expected_mu[5] = {params.tracer.kinetic_friction, params.cotton.kinetic_friction,
+                                 0.47, 0.55, params.tracer.kinetic_friction};
+  for (size_t i = 0; i < 5; ++i) {
+    const SceneObject& o = scene.objects[i];
+    EXPECT_NEAR(o.mass_kg, expected_mass[i], 1e-12) << o.id;
+    EXPECT_EQ(o.physics.has_value(), i == 2 || i == 3) << o.id;
+    EXPECT_EQ(physics_of(o, params).mass_kg,
+              i == 2 || i == 3 ? expected_mass[i] : params.of(o.type).mass_kg);
+    int colliding = 0;
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->body_rootid[m->geom_bodyid[g]] != o.root_body || m->geom_contype[g] == 0) continue;
+      EXPECT_NEAR(m->geom_friction[3 * g], expected_mu[i], 1e-12) << o.id;
+      ++colliding;
+    }
+    EXPECT_GT(colliding, 0) << o.id;
+  }
+  tracer.diameter_m = 0.04;
+  spec.objects[2].physics = tracer;
+  try {
+    build_scene(spec, params, 1);
+    ADD_FAILURE() << "a diameter of its own was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'t1'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("diameter"), std::string::npos) << e.what();
+  }
+  tracer.diameter_m = params.tracer.diameter_m;
+  tracer.mass_kg = -1.0;
+  spec.objects[2].physics = tracer;
+  EXPECT_THROW(build_scene(spec, params, 1), InputError);
+}
+
 // export_scene's files written to a fresh folder, with `edit` applied to scene.xml's text; the
 // path of scene.xml.
 std::string write_export(const std::string& name, const SceneSpec& spec,
