@@ -116,6 +116,14 @@ RunRecord parse_record(const std::string& text, const std::string& source) {
     }
     key = "error";
     if (j.contains("error")) r.error = j.at("error").get<std::string>();
+    key = "physics_variation";
+    if (j.contains("physics_variation")) {
+      r.physics_variation = j.at("physics_variation").get<std::string>();
+      key = "object_physics";
+      for (const auto& [id, physics] : j.at("object_physics").items()) {
+        r.object_physics.push_back({id, physics.get<std::string>()});
+      }
+    }
     r.wall_s = number(j, "wall_s");
     return r;
   } catch (const nlohmann::json::exception&) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "runs/batch_plan.h"
 #include "runs/scenario_run.h"
@@ -39,6 +40,10 @@ struct RunRecord {
           vision_merged = 0, vision_lost = 0, vision_left_view = 0;
   /// The twin failed (the SimulationError's message); empty for a run that ended normally.
   std::string error;
+  /// With objects that differ (--vary-physics): the variation, and each object's id and drawn
+  /// physics ("type:key=value,...", sim/object_physics.h); empty otherwise.
+  std::string physics_variation;
+  std::vector<ScenarioRunResult::ObjectPhysicsRecord> object_physics;
   // ---- timing (wall clock, machine dependent) ----------------------------------------------
   double wall_s = 0.0;  ///< the whole run (s)
   double decision_ms_mean = 0.0, decision_ms_max = 0.0;

@@ -15,6 +15,8 @@
 #include "common/quantile.h"
 #include "controller/run_metrics.h"
 #include "plots/batch_plot.h"
+#include "sim/object_physics.h"
+#include "sim/scene_builder.h"
 
 namespace airtwin {
 
@@ -179,6 +181,18 @@ std::string report_json(const BatchManifest& manifest, const std::vector<RunReco
     e["decisions"] = distribution_json(s.decisions);
     j["scenarios"].push_back(std::move(e));
   }
+  const std::vector<PhysicsSensitivity> sensitivity = physics_sensitivity(records);
+  if (!sensitivity.empty()) {
+    j["physics_variation"] = manifest.settings.value("physics_variation", std::string());
+    j["object_physics"] = ordered_json::array();
+    for (const PhysicsSensitivity& e : sensitivity) {
+      j["object_physics"].push_back({{"scenario", e.scenario},
+                                     {"type", e.type},
+                                     {"key", e.key},
+                                     {"successful_runs", distribution_json(e.successes)},
+                                     {"failed_runs", distribution_json(e.failures)}});
+    }
+  }
   j["plots"] = plots;
   // Wall clock last, apart from the results.
   ordered_json timing;
@@ -271,6 +285,24 @@ std::string report_md(const BatchManifest& manifest, const std::vector<RunRecord
     md += "\n## Twin failures (the simulation diverged; counted as failed runs)\n\n";
     for (const RunRecord& r : records) {
       if (!r.error.empty()) md += "- " + r.key.label() + ": " + r.error + "\n";
+    }
+  }
+  const std::vector<PhysicsSensitivity> sensitivity = physics_sensitivity(records);
+  if (!sensitivity.empty()) {
+    md += "\n## Objects that differ (`--vary-physics " +
+          manifest.settings.value("physics_variation", std::string()) +
+          "`)\n\nEach drawn parameter over the objects of the successful runs and over those of "
+          "the failed runs (typed units, sim/object_physics.h); where the two part, the "
+          "controller is sensitive to it.\n\n| scenario | type | key | successful runs: "
+          "median | mean | objects | failed runs: median | mean | objects |\n"
+          "|---|---|---|---|---|---|---|---|---|\n";
+    for (const PhysicsSensitivity& e : sensitivity) {
+      const auto cells = [](const Distribution& d) {
+        return d.count ? format("%.4g | %.4g | %d", d.median, d.mean, d.count)
+                       : std::string("- | - | 0");
+      };
+      md += "| " + e.scenario + " | " + e.type + " | " + e.key + " | " + cells(e.successes) +
+            " | " + cells(e.failures) + " |\n";
     }
   }
   md += "\n## Plots\n\n";
@@ -430,6 +462,58 @@ std::vector<ScenarioStats> scenario_stats(const std::vector<RunRecord>& records)
       return std::optional<double>(static_cast<double>(r.decisions));
     });
     out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::vector<PhysicsSensitivity> physics_sensitivity(const std::vector<RunRecord>& records) {
+  std::vector<PhysicsSensitivity> out;
+  for (const auto& [name, runs] : by_scenario(records)) {
+    // (type, key) -> values and seeds over the successful runs' objects [0] and the failed [1].
+    struct Values {
+      std::vector<double> values[2];
+      std::vector<uint64_t> seeds[2];
+    };
+    std::map<std::pair<std::string, size_t>, Values> table;
+    for (const RunRecord* r : runs) {
+      if (!r->error.empty()) continue;  // a twin failure says nothing of the controller
+      for (const auto& o : r->object_physics) {
+        // The record's text through the parser people type it with (sim/object_physics.h).
+        SceneParameters scene;
+        apply_drag_law("physical", &scene);
+        const std::string type = o.physics.substr(0, o.physics.find(':'));
+        try {
+          apply_object_physics(o.physics, &scene);
+        } catch (const InputError& e) {
+          throw InputError(r->key.label() + ": object '" + o.id + "': " + e.what());
+        }
+        const ObjectTypeParameters& p = scene.of(parse_object_type(type, r->key.label()));
+        for (const ObjectPhysicsSpec& spec : object_physics_catalogue()) {
+          if (o.physics.find(std::string(spec.key) + '=') == std::string::npos) continue;
+          Values& v = table[{type, static_cast<size_t>(spec.id)}];
+          const int side = r->success ? 0 : 1;
+          v.values[side].push_back(object_physics_value(p, spec.id));
+          v.seeds[side].push_back(r->key.seed);
+        }
+      }
+    }
+    for (const auto& [type_key, v] : table) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (const auto& side : v.values) {
+        for (double x : side) {
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+      }
+      if (!(hi > lo)) continue;  // not varied (the area, or a single value)
+      PhysicsSensitivity e;
+      e.scenario = name;
+      e.type = type_key.first;
+      e.key = object_physics_catalogue()[type_key.second].key;
+      e.successes = distribution(v.values[0], v.seeds[0]);
+      e.failures = distribution(v.values[1], v.seeds[1]);
+      out.push_back(std::move(e));
+    }
   }
   return out;
 }

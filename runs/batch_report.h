@@ -8,6 +8,8 @@
 //                distributions over seeds of completion time, path error, pairwise distance,
 //                objects in zone and decisions: count, mean, median, p90, worst value and the
 //                worst seed; then the same for the timings under "timing"
+//                with objects that differ (--vary-physics), each drawn parameter's values over
+//                the successful runs' objects and over the failed runs' (physics_sensitivity)
 //   report.md    the same for people, with the plots
 //   plots/       completion_time.png, path_error_mean.png, path_error_max.png (box plots over the
 //                scenarios), <scenario>.png (histograms of one scenario)
@@ -51,6 +53,19 @@ struct ScenarioStats {
   Distribution objects_in_zone_fraction;  ///< objects_in_zone / n_objects at the end
   Distribution decisions;
 };
+
+/// With objects that differ (--vary-physics): one drawn parameter of one object type in one
+/// scenario, over the objects of its successful runs and over those of its failed runs (each
+/// value's seed its run's). Where the two part, the controller is sensitive to that parameter.
+struct PhysicsSensitivity {
+  std::string scenario, type, key;  ///< key: sim/object_physics.h's, in its typed unit
+  Distribution successes, failures;
+};
+
+/// Every (scenario, type, key) whose drawn values differ between the runs of `records`, in
+/// scenario, type and catalogue order; none without varied objects. Throws InputError naming the
+/// run for a record whose object physics cannot be read.
+std::vector<PhysicsSensitivity> physics_sensitivity(const std::vector<RunRecord>& records);
 
 /// The record's run failed and had stalled at its end (run_stalled, runs/scenario_run.h).
 bool stalled(const RunRecord& record);

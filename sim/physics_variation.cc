@@ -50,9 +50,10 @@ PhysicsVariation PhysicsVariation::parse(const std::string& text, const std::str
   char* end = nullptr;
   const double f = std::strtod(t.c_str(), &end);
   if (t.empty() || end != t.c_str() + t.size() || errno == ERANGE || !(f > 0.0 && f <= 0.5)) {
-    throw FieldError(field, "expected none, documented or a spread in (0, 0.5] (0.1: each "
-                            "parameter within +-10 % of its type's), got '" +
-                                text + "'");
+    throw FieldError(field,
+                     "expected none, documented or a spread in (0, 0.5] (0.1: each "
+                     "parameter within +-10 % of its type's), got '" +
+                         text + "'");
   }
   v.kind = Kind::kRelative;
   v.fraction = f;
@@ -90,8 +91,8 @@ ObjectTypeParameters draw_object_physics(const PhysicsVariation& variation, Obje
     if (variation.kind == PhysicsVariation::Kind::kDocumented) {
       value = range.min + u * (range.max - range.min);
     } else {
-      value = object_physics_value(type_params, spec.id) *
-              (1.0 + variation.fraction * (2.0 * u - 1.0));
+      value =
+          object_physics_value(type_params, spec.id) * (1.0 + variation.fraction * (2.0 * u - 1.0));
     }
     set_object_physics_value(spec.id, std::clamp(value, spec.min, spec.max), &p);
   }

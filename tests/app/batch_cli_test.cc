@@ -251,8 +251,9 @@ TEST(BatchCli, RestartWithOtherArgumentsIsRefused) {
   ASSERT_EQ(
       run_airtwin("batch " + kScenes + "line.yaml --seeds 2 --quiet --out " + d + "/b").exit_code,
       0);
-  for (const std::string other : {"--seeds 3", "--seeds 2 --first-seed 2", "--seeds 2 --shard 0/2",
-                                  "--seeds 2 --effect field_scale:factor=1.1"}) {
+  for (const std::string other :
+       {"--seeds 3", "--seeds 2 --first-seed 2", "--seeds 2 --shard 0/2",
+        "--seeds 2 --effect field_scale:factor=1.1", "--seeds 2 --vary-physics 0.1"}) {
     const auto r =
         run_airtwin("batch " + kScenes + "line.yaml " + other + " --quiet --out " + d + "/b");
     EXPECT_EQ(r.exit_code, 1) << other;
@@ -265,6 +266,34 @@ TEST(BatchCli, RestartWithOtherArgumentsIsRefused) {
                                 "--quiet --out " +
                                 d + "/b");
   EXPECT_EQ(same.exit_code, 0) << same.err;
+}
+
+// Objects that differ: the report splits each drawn parameter by the runs' verdicts, and the
+// batch's settings name the variation.
+TEST(BatchCli, VariedObjectsGetTheirSectionInTheReport) {
+  const std::string d = scratch_dir("batch_vary");
+  {
+    std::ifstream in(kScenes + "line.yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    yaml.replace(yaml.find("time_limit_s: 120"), 17, "time_limit_s: 6");
+    std::ofstream(d + "/short.yaml") << yaml;
+  }
+  const auto r = run_airtwin("batch " + d + "/short.yaml --seeds 2 --vary-physics documented " +
+                             "--quiet --out " + d + "/b");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream md(d + "/b/report.md");
+  std::stringstream report;
+  report << md.rdbuf();
+  EXPECT_NE(report.str().find("## Objects that differ (`--vary-physics documented`)"),
+            std::string::npos);
+  EXPECT_NE(report.str().find("| line | tracer | mu_k |"), std::string::npos) << report.str();
+  const auto json = nlohmann::json::parse(std::ifstream(d + "/b/report.json"));
+  EXPECT_EQ(json.at("physics_variation"), "documented");
+  EXPECT_EQ(json.at("object_physics").size(), 5u);  // mass, C_D, mu_k, mu_s/mu_k, C_L: not the area
+  const auto batch = nlohmann::json::parse(std::ifstream(d + "/b/batch.json"));
+  EXPECT_EQ(batch.at("settings").at("physics_variation"), "documented");
 }
 
 TEST(BatchCli, BadInputIsOneClearLine) {

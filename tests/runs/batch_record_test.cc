@@ -66,6 +66,27 @@ TEST(BatchRecord, HoldsTheRunSummaryAndReadsBackExactly) {
   EXPECT_LE(since, r.loop.end_time_s);
 }
 
+// A run of objects that differ: its record keeps the variation and each object's physics.
+TEST(BatchRecord, KeepsTheObjectsDrawnPhysics) {
+  ScenarioRunResult r;
+  r.scenario = "pair";
+  r.seed = 4;
+  r.n_objects = 2;
+  r.physics_variation = "0.1";
+  r.object_physics = {{"b", "tracer:mass_g=0.15,mu_s_ratio=1.1"},
+                      {"a", "cotton:mass_g=0.23,mu_s_ratio=1.2"}};
+  const RunRecord rec = parse_record(record_json(r, 60.0, 1.0), "r.json");
+  EXPECT_EQ(rec.physics_variation, "0.1");
+  ASSERT_EQ(rec.object_physics.size(), 2u);
+  EXPECT_EQ(rec.object_physics[0].id, "b");  // the run's order
+  EXPECT_EQ(rec.object_physics[0].physics, r.object_physics[0].physics);
+  EXPECT_EQ(rec.object_physics[1].physics, r.object_physics[1].physics);
+  // A record without them (no variation) has none.
+  r.physics_variation.clear();
+  r.object_physics.clear();
+  EXPECT_TRUE(parse_record(record_json(r, 60.0, 1.0), "r.json").object_physics.empty());
+}
+
 // Records of an earlier airtwin (a batch resumed across versions) have no still_since_s.
 TEST(BatchRecord, ReadsRecordsWrittenBeforeTheStillTime) {
   std::string json = failed_record_json({"line", 1}, 1, 120.0, "truth", "x", 1.0);

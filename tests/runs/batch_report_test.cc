@@ -11,6 +11,7 @@
 #include <random>
 
 #include "common/csv.h"
+#include "common/errors.h"
 #include "tests/support/scratch_dir.h"
 
 namespace airtwin {
@@ -92,6 +93,45 @@ TEST(BatchReport, StatsPerScenarioWithFailuresAndWilsonIntervals) {
   EXPECT_EQ(zeta.twin_failure_seeds, (std::vector<uint64_t>{1}));
   EXPECT_EQ(zeta.failed_seeds, (std::vector<uint64_t>{1}));
   EXPECT_EQ(zeta.max_pairwise_distance_cm.count, 0);
+}
+
+// Objects that differ: each drawn parameter's values split by the runs' verdicts, recounted by
+// hand; the keys that did not vary, twin failures and records without object physics left out.
+TEST(BatchReport, PhysicsSensitivitySplitsEachDrawnValueByTheRunsVerdict) {
+  std::vector<RunRecord> records;
+  const double mu[4] = {0.30, 0.36, 0.44, 0.48};
+  for (uint64_t s = 1; s <= 4; ++s) {
+    RunRecord r = path_run("square", s, s >= 3, 100.0, 1.0);
+    r.physics_variation = "documented";
+    r.object_physics = {{"t1", "tracer:mass_g=0.16,cd=0.35,area_cm2=3.5,mu_k=" +
+                                   std::to_string(mu[s - 1]) + ",mu_s_ratio=1.4,cl=0.2"}};
+    records.push_back(r);
+  }
+  RunRecord diverged = records[0];
+  diverged.key.seed = 5;
+  diverged.error = "the twin diverged";
+  diverged.object_physics[0].physics = "tracer:mass_g=0.16,mu_k=0.9";
+  records.push_back(diverged);
+  records.push_back(path_run("line", 1, true, 30.0, 0.1));  // nothing varied
+  const std::vector<PhysicsSensitivity> table = physics_sensitivity(records);
+  ASSERT_EQ(table.size(), 1u);  // only mu_k varied
+  EXPECT_EQ(table[0].scenario, "square");
+  EXPECT_EQ(table[0].type, "tracer");
+  EXPECT_EQ(table[0].key, "mu_k");
+  EXPECT_EQ(table[0].successes.count, 2);
+  EXPECT_NEAR(table[0].successes.median, 0.46, 1e-12);
+  EXPECT_EQ(table[0].failures.count, 2);
+  EXPECT_NEAR(table[0].failures.median, 0.33, 1e-12);
+  EXPECT_EQ(table[0].failures.worst_seed, 2u);
+  // A record whose physics cannot be read names its run and the object.
+  records[1].object_physics[0].physics = "tracer:mu_k=nine";
+  try {
+    physics_sensitivity(records);
+    ADD_FAILURE() << "an unreadable record was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'t1'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("square"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BatchReport, RunsCsvIsInScenarioSeedOrderWhateverTheInputOrder) {

@@ -87,7 +87,8 @@ TEST(PhysicsVariation, DocumentedDrawsAreUniformOverTheDocumentedRanges) {
             0.34);
   EXPECT_NEAR(documented_physics_range(ObjectType::kCotton, ObjectPhysicsKey::kMass).max,
               1.1 * 0.22, 1e-12);
-  EXPECT_FALSE(documented_physics_range(ObjectType::kCotton, ObjectPhysicsKey::kFrontalArea).varied);
+  EXPECT_FALSE(
+      documented_physics_range(ObjectType::kCotton, ObjectPhysicsKey::kFrontalArea).varied);
 }
 
 // A spread F keeps each varied value within +-F of the type's and centred on it.
@@ -126,8 +127,8 @@ TEST(PhysicsVariation, UnderEquationEightOnlyTheMassVariesAndItIsTheSameDraw) {
   const SceneParameters physical = physical_scene();
   const PhysicsVariation documented = PhysicsVariation::parse("documented");
   for (int i = 0; i < 20; ++i) {
-    const ObjectTypeParameters a = draw_object_physics(documented, ObjectType::kTracer, eq8.tracer,
-                                                       5, i);
+    const ObjectTypeParameters a =
+        draw_object_physics(documented, ObjectType::kTracer, eq8.tracer, 5, i);
     const ObjectTypeParameters b =
         draw_object_physics(documented, ObjectType::kTracer, physical.tracer, 5, i);
     EXPECT_EQ(a.mass_kg, b.mass_kg);
@@ -154,9 +155,9 @@ TEST(PhysicsVariation, EachObjectsDrawComesFromTheSeedAndItsIndex) {
   EXPECT_EQ(text(8, 2), text(8, 2));
   EXPECT_NE(text(8, 2), text(8, 3));
   EXPECT_NE(text(8, 2), text(9, 2));
-  EXPECT_EQ(object_physics_to_string(draw_object_physics(PhysicsVariation{}, ObjectType::kTracer,
-                                                         scene.tracer, 8, 2),
-                                     ObjectType::kTracer),
+  EXPECT_EQ(object_physics_to_string(
+                draw_object_physics(PhysicsVariation{}, ObjectType::kTracer, scene.tracer, 8, 2),
+                ObjectType::kTracer),
             object_physics_to_string(scene.tracer, ObjectType::kTracer));
 
   SceneSpec spec;
@@ -168,10 +169,10 @@ TEST(PhysicsVariation, EachObjectsDrawComesFromTheSeedAndItsIndex) {
   vary_object_physics(spread, scene, 8, &spec);
   ASSERT_TRUE(spec.objects[0].physics && spec.objects[1].physics);
   EXPECT_EQ(object_physics_to_string(*spec.objects[0].physics, ObjectType::kTracer), text(8, 0));
-  EXPECT_EQ(object_physics_to_string(*spec.objects[1].physics, ObjectType::kCotton),
-            object_physics_to_string(
-                draw_object_physics(spread, ObjectType::kCotton, scene.cotton, 8, 1),
-                ObjectType::kCotton));
+  EXPECT_EQ(
+      object_physics_to_string(*spec.objects[1].physics, ObjectType::kCotton),
+      object_physics_to_string(draw_object_physics(spread, ObjectType::kCotton, scene.cotton, 8, 1),
+                               ObjectType::kCotton));
   spec.objects[1].type = "foam";
   try {
     vary_object_physics(spread, scene, 8, &spec);
