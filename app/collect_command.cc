@@ -39,7 +39,14 @@ struct CollectArgs {
   std::string noise = "none";
   std::string truth_out;
   std::string protocol = "reaim";
+  std::string vary_physics = "none";
 };
+
+// Where --vary-physics's record of each trial's object goes: <out stem>_objects.csv.
+std::string objects_path(const std::string& out) {
+  const std::filesystem::path p(out);
+  return ((p.parent_path() / p.stem()).string() + "_objects.csv");
+}
 
 // The camera model of --vision: --calib's, or the twin's camera calibrated from rendered
 // checkerboard views as `run --vision` does, the views into <out stem>_calibration/ and the model
@@ -86,6 +93,11 @@ void run_collect(CollectArgs a) {
   }
   parse_noise(a.noise);
   with_flags(kCollectionFlags, [&] { o.protocol = parse_collection_protocol(a.protocol); });
+  try {
+    o.physics_variation = PhysicsVariation::parse(a.vary_physics, "--vary-physics");
+  } catch (const FieldError& e) {
+    throw UsageError(e.what());
+  }
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });
@@ -102,6 +114,9 @@ void run_collect(CollectArgs a) {
       a.vision ? collect_through_camera(a, field, report) : run_collection(o, field, report);
   if (progress) progress->finish();
   write_text_file(a.out, trajectory_csv(set));
+  if (o.physics_variation.active()) {
+    write_text_file(objects_path(a.out), collection_objects_csv(o));
+  }
   std::string effect_list;
   for (const Effect& e : effects)
     effect_list += (effect_list.empty() ? "" : " ") + effect_to_string(e);
@@ -112,6 +127,10 @@ void run_collect(CollectArgs a) {
       collection_protocol_name(o.protocol), static_cast<unsigned long long>(o.seed),
       a.air.air.c_str(), effects.empty() ? "" : ", effects ", effect_list.c_str(),
       a.vision ? ", through the camera" : "", a.out.c_str());
+  if (o.physics_variation.active()) {
+    std::printf("each trial's object (--vary-physics %s) in %s\n",
+                o.physics_variation.to_string().c_str(), objects_path(a.out).c_str());
+  }
 }
 
 }  // namespace
@@ -157,6 +176,10 @@ void add_collect_command(CLI::App& app) {
                   "field-model JSON); ") +
           kDefaultFieldModelHelp);
   sub->add_option("--out", args->out, "Output trajectory CSV")->required();
+  sub->add_option("--vary-physics", args->vary_physics,
+                  "Each trial's object its own physics, drawn from the trial's seed: 'documented'\n"
+                  "or a spread F in (0, 0.5] (as run's); written to <out stem>_objects.csv")
+      ->capture_default_str();
   sub->add_option("--effect", args->effects,
                   "Switch on a physical effect the nominal model lacks, NAME or "
                   "NAME:key=value,...; repeatable. Effects:\n" +

@@ -9,6 +9,7 @@
 #include "common/errors.h"
 #include "common/parallel_for.h"
 #include "common/random_stream.h"
+#include "common/text.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
 
@@ -119,11 +120,41 @@ std::vector<CollectionTrial> plan_collection(const CollectionOptions& o) {
   return plan;
 }
 
-void run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
-                          const AirFieldModel& field, const CollectionFrameRecorder& record) {
+SceneSpec collection_trial_scene(const CollectionTrial& trial, const CollectionOptions& o) {
   SceneSpec spec;
   spec.source = "collection trial " + std::to_string(trial.index);
   spec.objects.push_back({std::to_string(trial.index), o.object, trial.start_W, std::nullopt});
+  vary_object_physics(o.physics_variation, o.twin.scene, trial.twin_seed, &spec);
+  return spec;
+}
+
+std::string collection_objects_csv(const CollectionOptions& o) {
+  if (!o.physics_variation.active()) return "";
+  std::string csv = "traj";
+  for (const ObjectPhysicsSpec& key : object_physics_catalogue()) {
+    csv += ',';
+    csv += key.key;
+  }
+  csv += "\n";
+  for (const CollectionTrial& trial : plan_collection(o)) {
+    const SceneSpec scene = collection_trial_scene(trial, o);
+    const ObjectSpec& object = scene.objects.front();
+    csv += object.id;
+    for (const ObjectPhysicsSpec& key : object_physics_catalogue()) {
+      csv += ',';
+      // The keys of the physical law are empty cells under eq. (8)'s.
+      if (!key.physical_law_only || object.physics->drag_law == DragLaw::kPhysical) {
+        csv += format_number(object_physics_value(*object.physics, key.id));
+      }
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+void run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,
+                          const AirFieldModel& field, const CollectionFrameRecorder& record) {
+  const SceneSpec spec = collection_trial_scene(trial, o);
   TwinParameters params = o.twin;
   params.initial_orientation = trial.placed ? trial.target : o.idle;  // (i) placed, jet off
   params.jet_on_at_start = false;

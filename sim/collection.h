@@ -30,6 +30,7 @@
 
 #include "models/air_field.h"
 #include "models/trajectory_data.h"
+#include "sim/physics_variation.h"
 #include "sim/twin.h"
 
 namespace airtwin {
@@ -67,7 +68,11 @@ struct CollectionOptions {
   CollectionProtocol protocol = CollectionProtocol::kReaim;
   double frame_rate_hz = 40.0;
   TwinParameters twin;  ///< the twin's physics (effects applied here)
-  int threads = 1;      ///< twins run in parallel (0: one per core)
+  /// Active: each trial's object gets its own physics, drawn from the trial's twin seed
+  /// (sim/physics_variation.h): a collection over objects that differ, as a rig's several
+  /// objects of one type.
+  PhysicsVariation physics_variation;
+  int threads = 1;  ///< twins run in parallel (0: one per core)
 
   /// Throws FieldError naming the field ("collection.per_tilt") when a value is out of range.
   void validate() const;
@@ -91,6 +96,15 @@ std::vector<CollectionTrial> plan_collection(const CollectionOptions& options);
 /// t_s its time from the re-aim (s, negative in the lead-in) and the command then in force.
 using CollectionFrameRecorder =
     std::function<void(const Twin& twin, int frame, double t_s, const NozzleOrientation& command)>;
+
+/// The objects of the trials of `options`: the trial's object as run_collection_trial builds it,
+/// with its own physics under an active variation (else the type's).
+SceneSpec collection_trial_scene(const CollectionTrial& trial, const CollectionOptions& options);
+
+/// With an active variation, each trial's object physics: the header "traj" and the catalogue's
+/// keys (sim/object_physics.h), then a row per trial of the plan, its trajectory's id and the
+/// values in the keys' typed units (the physical law's keys empty under eq. (8)'s); "" otherwise.
+std::string collection_objects_csv(const CollectionOptions& options);
 
 /// Runs one trial by the protocol and calls `record` at each of its recorded frames (lead-in,
 /// then the re-aim and the record), in time order. A recorder that sees the twin through a camera

@@ -68,6 +68,26 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
                                  "tracer:mass_g=0.176,mu_k=0.5 --out " + d + "/heavy.csv");
   ASSERT_EQ(heavy.exit_code, 0) << heavy.err;
   EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/heavy.csv"));
+  // Objects that differ: each trial's own object, recorded beside the data, the same for the
+  // same seed; no record without the variation.
+  const std::string varied = quick + "--vary-physics 0.2 --out " + d;
+  const auto v = run_airtwin(varied + "/varied.csv");
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("varied_objects.csv"), std::string::npos) << v.out;
+  ASSERT_EQ(run_airtwin(varied + "/varied2.csv").exit_code, 0);
+  EXPECT_EQ(read_text_file(d + "/varied.csv"), read_text_file(d + "/varied2.csv"));
+  EXPECT_EQ(read_text_file(d + "/varied_objects.csv"), read_text_file(d + "/varied2_objects.csv"));
+  EXPECT_NE(read_text_file(d + "/phys.csv"), read_text_file(d + "/varied.csv"));
+  const CsvTable objects = CsvTable::read_file(
+      d + "/varied_objects.csv", {"traj", "mass_g", "cd", "area_cm2", "mu_k", "mu_s_ratio", "cl"});
+  ASSERT_EQ(objects.rows(), 4u);
+  for (size_t i = 0; i < objects.rows(); ++i) {
+    EXPECT_EQ(objects.text(i, "traj"), std::to_string(i));
+    EXPECT_NEAR(objects.number(i, "mu_k"), 0.4, 0.2 * 0.4 + 1e-9);  // the tracer's 0.4 +-20 %
+    EXPECT_EQ(objects.number(i, "area_cm2"), objects.number(0, "area_cm2"));  // the geometry
+  }
+  EXPECT_NE(objects.number(0, "mu_k"), objects.number(1, "mu_k"));
+  EXPECT_FALSE(std::filesystem::exists(d + "/phys_objects.csv"));
   // The turbulence swept past the objects is the default's; the Lagrangian time alone another
   // twin, the same for the same seed.
   ASSERT_EQ(run_airtwin(quick + "--air-turbulence-swept --out " + d + "/swept.csv").exit_code, 0);
@@ -142,6 +162,7 @@ TEST(CollectCli, VisionRecordsThroughTheCalibratedCamera) {
 
 TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --object pebble --out x.csv", "--object");
+  expect_usage_error("collect --vary-physics 0.9 --out x.csv", "--vary-physics: expected none");
   expect_usage_error("collect --tilts 70 --out x.csv", "--tilts");
   expect_usage_error("collect --tilts 0,abc --out x.csv", "--tilts");
   expect_usage_error("collect --per-tilt 0 --out x.csv", "--per-tilt");

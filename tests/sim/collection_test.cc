@@ -7,6 +7,7 @@
 
 #include <cstdio>
 
+#include "common/csv.h"
 #include "common/errors.h"
 #include "common/units.h"
 #include "models/nozzle_geometry.h"
@@ -164,6 +165,38 @@ TEST(Collection, SameSeedSameBytesWhateverTheThreadCount) {
 }
 
 // The library names the field at fault (app/ maps it to the flag).
+// Objects that differ: each trial's object drawn from its own twin seed (the plan's), with the
+// physics the twin is built with; the record lists them; nothing drawn without the variation.
+TEST(Collection, EachTrialsObjectIsDrawnFromItsTwinSeed) {
+  CollectionOptions o = quick_options();
+  o.twin.scene.tracer.use_physical_drag();
+  EXPECT_EQ(collection_objects_csv(o), "");
+  const std::vector<CollectionTrial> plan = plan_collection(o);
+  EXPECT_FALSE(collection_trial_scene(plan[0], o).objects[0].physics.has_value());
+  o.physics_variation = PhysicsVariation::parse("0.2");
+  const std::string csv = collection_objects_csv(o);
+  const CsvTable table = CsvTable::parse(
+      csv, "objects", {"traj", "mass_g", "cd", "area_cm2", "mu_k", "mu_s_ratio", "cl"});
+  ASSERT_EQ(table.rows(), plan.size());
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const SceneSpec scene = collection_trial_scene(plan[i], o);
+    ASSERT_TRUE(scene.objects[0].physics.has_value());
+    const ObjectTypeParameters expected = draw_object_physics(
+        o.physics_variation, ObjectType::kTracer, o.twin.scene.tracer, plan[i].twin_seed, 0);
+    EXPECT_EQ(scene.objects[0].physics->drag_coefficient, expected.drag_coefficient);
+    EXPECT_NEAR(table.number(i, "cd"), expected.drag_coefficient, 1e-8);
+    EXPECT_NEAR(table.number(i, "mass_g"), 1e3 * expected.mass_kg, 1e-8);
+  }
+  // The varied trial runs in another object than the type's.
+  CollectionOptions plain = quick_options();
+  plain.twin.scene.tracer.use_physical_drag();
+  const Trajectory a = run_collection_trial(plan[0], o, AirFieldModel::with_constructed_table());
+  const Trajectory b =
+      run_collection_trial(plan[0], plain, AirFieldModel::with_constructed_table());
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  EXPECT_NE(a.samples.back().p_W, b.samples.back().p_W);
+}
+
 TEST(Collection, BadOptionsNameTheField) {
   const auto field_of = [](const CollectionOptions& o) {
     try {
