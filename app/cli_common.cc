@@ -68,6 +68,14 @@ std::vector<double> parse_degree_list(const std::string& text, const std::string
   return out;
 }
 
+PhysicsVariation parse_vary_physics(const std::string& text) {
+  try {
+    return PhysicsVariation::parse(text, "--vary-physics");
+  } catch (const FieldError& e) {
+    throw UsageError(e.what());
+  }
+}
+
 NoiseLevel parse_noise(const std::string& level) {
   if (level == "none") return {0.0, 0.0};
   if (level == "low") return {3.0, 0.7};

@@ -10,6 +10,7 @@
 #include "common/errors.h"
 #include "models/trajectory_data.h"
 #include "sim/effects.h"
+#include "sim/physics_variation.h"
 
 namespace airtwin::cli {
 
@@ -37,6 +38,10 @@ struct NoiseLevel {
   double blur_sigma_px = 0.0;
 };
 NoiseLevel parse_noise(const std::string& level);
+
+/// --vary-physics's text (run, view, batch, collect): none, documented or a spread in (0, 0.5];
+/// UsageError naming the flag and the text otherwise.
+PhysicsVariation parse_vary_physics(const std::string& text);
 
 /// One or more trajectory CSVs read as one set (merge_trajectory_sets: with several, each id
 /// becomes FILE_INDEX:ID), and how to name them: the path, or "N files, FIRST to LAST".

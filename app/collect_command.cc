@@ -93,11 +93,7 @@ void run_collect(CollectArgs a) {
   }
   parse_noise(a.noise);
   with_flags(kCollectionFlags, [&] { o.protocol = parse_collection_protocol(a.protocol); });
-  try {
-    o.physics_variation = PhysicsVariation::parse(a.vary_physics, "--vary-physics");
-  } catch (const FieldError& e) {
-    throw UsageError(e.what());
-  }
+  o.physics_variation = parse_vary_physics(a.vary_physics);
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
   with_flags(kCollectionFlags, [&] { o.validate(); });

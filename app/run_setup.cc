@@ -75,11 +75,7 @@ void check_run_setup_flags(const RunSetupFlags& f) {
 }
 
 PhysicsVariation physics_variation_of(const RunSetupFlags& f) {
-  try {
-    return PhysicsVariation::parse(f.vary_physics, "--vary-physics");
-  } catch (const FieldError& e) {
-    throw UsageError(e.what());
-  }
+  return parse_vary_physics(f.vary_physics);
 }
 
 std::vector<std::string> controller_models(const RunSetupFlags& f) {

@@ -157,6 +157,7 @@ ordered_json batch_json(const BatchManifest& manifest, size_t runs) {
 
 std::string report_json(const BatchManifest& manifest, const std::vector<RunRecord>& records,
                         const std::vector<ScenarioStats>& stats,
+                        const std::vector<PhysicsSensitivity>& sensitivity,
                         const std::vector<std::string>& plots) {
   ordered_json j;
   j["batch"] = batch_json(manifest, records.size());
@@ -181,7 +182,6 @@ std::string report_json(const BatchManifest& manifest, const std::vector<RunReco
     e["decisions"] = distribution_json(s.decisions);
     j["scenarios"].push_back(std::move(e));
   }
-  const std::vector<PhysicsSensitivity> sensitivity = physics_sensitivity(records);
   if (!sensitivity.empty()) {
     j["physics_variation"] = manifest.settings.value("physics_variation", std::string());
     j["object_physics"] = ordered_json::array();
@@ -216,6 +216,7 @@ std::string report_json(const BatchManifest& manifest, const std::vector<RunReco
 
 std::string report_md(const BatchManifest& manifest, const std::vector<RunRecord>& records,
                       const std::vector<ScenarioStats>& stats,
+                      const std::vector<PhysicsSensitivity>& sensitivity,
                       const std::vector<std::string>& plots) {
   std::string md = "# Batch report\n\n";
   // What was run.
@@ -287,7 +288,6 @@ std::string report_md(const BatchManifest& manifest, const std::vector<RunRecord
       if (!r.error.empty()) md += "- " + r.key.label() + ": " + r.error + "\n";
     }
   }
-  const std::vector<PhysicsSensitivity> sensitivity = physics_sensitivity(records);
   if (!sensitivity.empty()) {
     md += "\n## Objects that differ (`--vary-physics " +
           manifest.settings.value("physics_variation", std::string()) +
@@ -565,8 +565,11 @@ void write_batch_report(const std::string& dir, const BatchManifest& manifest,
   const std::vector<std::string> plots = write_plots(dir, records, stats);
   write_file_atomically(dir + "/runs.csv", runs_csv(records));
   write_file_atomically(dir + "/timings.csv", timings_csv(records));
-  write_file_atomically(dir + "/report.json", report_json(manifest, records, stats, plots));
-  write_file_atomically(dir + "/report.md", report_md(manifest, records, stats, plots));
+  const std::vector<PhysicsSensitivity> sensitivity = physics_sensitivity(records);
+  write_file_atomically(dir + "/report.json",
+                        report_json(manifest, records, stats, sensitivity, plots));
+  write_file_atomically(dir + "/report.md",
+                        report_md(manifest, records, stats, sensitivity, plots));
 }
 
 }  // namespace airtwin
