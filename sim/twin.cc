@@ -12,6 +12,10 @@ namespace airtwin {
 
 namespace {
 
+bool same_orientation(const NozzleOrientation& a, const NozzleOrientation& b) {
+  return a.pan_rad == b.pan_rad && a.tilt_rad == b.tilt_rad;
+}
+
 // The parameters a twin runs with: in the CFD's air with its start-up's timings, the free jet's
 // transit is the CFD's (AirTransportParameters::cfd_timing).
 TwinParameters with_cfd_timing(TwinParameters p) {
@@ -82,12 +86,15 @@ void Twin::Impl::set_rig_joints() {
   d->qvel[m->jnt_dofadr[scene.tilt_joint]] = actuator.tilt_rate_radps();
 }
 
-// Rebuilds the oriented fields only when the effective orientation changed (~1 us when it does).
+// Rebuilds the air's oriented field only when the effective orientation changed. In the CFD's air
+// the analytical field is not rebuilt here: no step reads it, and its 360 profiles cost more than
+// the CFD's bracket; Twin::field() builds it when asked.
 void Twin::Impl::refresh_field() {
   const NozzleOrientation& e = actuator.effective();
-  if (e.pan_rad != field.orientation().pan_rad || e.tilt_rad != field.orientation().tilt_rad) {
+  if (cfd_field) {
+    if (!same_orientation(e, cfd_field->orientation())) cfd_field = params.cfd_air->at(e);
+  } else if (!same_orientation(e, field.orientation())) {
     field = field_model.at(e);
-    if (cfd_field) cfd_field = params.cfd_air->at(e);
   }
 }
 
@@ -265,7 +272,13 @@ NozzleOrientation Twin::commanded_orientation() const { return impl_->actuator.c
 NozzleOrientation Twin::actual_orientation() const { return impl_->actuator.actual(); }
 NozzleOrientation Twin::effective_orientation() const { return impl_->actuator.effective(); }
 double Twin::jet_level() const { return impl_->actuator.jet_level(); }
-const OrientedField& Twin::field() const { return impl_->field; }
+const OrientedField& Twin::field() const {
+  Impl& s = *impl_;
+  if (!same_orientation(s.actuator.effective(), s.field.orientation())) {
+    s.field = s.field_model.at(s.actuator.effective());  // in the CFD's air, built when asked
+  }
+  return s.field;
+}
 Eigen::Vector2d Twin::stagnation_point() const {
   return impl_->cfd_field ? impl_->cfd_field->stagnation_point() : impl_->field.stagnation_point();
 }

@@ -107,7 +107,7 @@ class Twin {
   /// The stagnation point of the air the objects are in now (m, world frame).
   Eigen::Vector2d stagnation_point() const;
   /// The analytical field at the effective orientation, not scaled by the jet level: the air the
-  /// objects are in unless cfd_air is set.
+  /// objects are in unless cfd_air is set (then it is built on this call, as no step reads it).
   const OrientedField& field() const;
 
   size_t object_count() const;

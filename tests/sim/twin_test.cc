@@ -370,6 +370,29 @@ TEST_F(TwinTest, InCfdAirATracerIsBlownAlongTheCfdsFlow) {
   }
 }
 
+// In the CFD's air no step reads the analytical field; asked for, it is the model's at the
+// effective orientation, also after a re-aim.
+TEST_F(TwinTest, InCfdAirTheAnalyticalFieldIsTheModelsAtTheEffectiveOrientation) {
+  TwinParameters p = eq8_parameters();
+  p.cfd_air = shipped_cfd();
+  p.initial_orientation = {0.5, deg_to_rad(22.5)};
+  p.jet_on_at_start = true;
+  SceneSpec spec;
+  spec.objects = {{"t", "tracer", {0.3, -0.4}, 0.0}};
+  Twin twin(spec, p, field_model(), 3);
+  twin.command_nozzle({-1.0, deg_to_rad(30)});
+  for (const double t : {0.1, 0.35, 2.0}) {
+    twin.advance_to(t);
+    const NozzleOrientation e = twin.effective_orientation();
+    EXPECT_EQ(twin.field().orientation().pan_rad, e.pan_rad) << "at " << t << " s";
+    EXPECT_EQ(twin.field().orientation().tilt_rad, e.tilt_rad) << "at " << t << " s";
+    const OrientedField expected = field_model().at(e);
+    EXPECT_EQ(twin.field().stagnation_point(), expected.stagnation_point()) << "at " << t << " s";
+    EXPECT_EQ(twin.field().velocity({0.2, 0.1}), expected.velocity({0.2, 0.1})) << "at " << t;
+  }
+  EXPECT_EQ(twin.effective_orientation().pan_rad, -1.0);
+}
+
 TEST_F(TwinTest, CfdAirNotCoveringTheNozzlesTiltsIsOneClearError) {
   const std::string dir = testing::fresh_scratch_dir("twin_cfd_range");
   testing::write_cfd_case(dir, "tilt10.0_mesh1_d20", 10.0, 0.25, [](double, double, double) {
