@@ -130,15 +130,15 @@ TEST(RegionCli, ScenarioSetsTheDistanceHorizonAndObject) {
                 .exit_code,
             0);
   auto j = nlohmann::json::parse(file_text(d + "/region.json"));
-  EXPECT_EQ(j["distance_m"], 0.25);  // the file's mean0_m
+  EXPECT_EQ(j["distance_m"], 0.30);  // the file's mean0_m
   EXPECT_EQ(j["horizon_s"], 1.5);
   EXPECT_EQ(j["object"], "tracer");
   ASSERT_EQ(run_airtwin("region" + kSmall + "--scenario " + scenes +
-                        "aggregation.yaml --distance 0.3 --horizon 1 --out " + d)
+                        "aggregation.yaml --distance 0.2 --horizon 1 --out " + d)
                 .exit_code,
             0);
   j = nlohmann::json::parse(file_text(d + "/region.json"));
-  EXPECT_EQ(j["distance_m"], 0.3);
+  EXPECT_EQ(j["distance_m"], 0.2);
   EXPECT_EQ(j["horizon_s"], 1.0);
   // The sorting's plane search has no distance: D stays the default, the object its first.
   ASSERT_EQ(

@@ -92,11 +92,16 @@ TEST(ClosedLoopAcceptance, OctagonFourTracers) {
   EXPECT_LE(t.worst_pairwise_m, 0.75);
 }
 
+// The paper's line search with mu0 30 cm (scenes/aggregation.yaml): every tracer in the zone
+// within the file's 150 s, the median run within the issue's 0.67-1.5x of the paper's 105 s
+// (seeds 1-10: 77-108 s, median 90.9 s; 11-30: median 92.7 s, worst 118.8 s).
 TEST(ClosedLoopAcceptance, AggregationTwentyFiveTracers) {
   const int n = seed_count();
   const Tally t = run_seeds("aggregation", n);
   EXPECT_GE(t.success, required_successes(n));
-  EXPECT_LE(t.worst_time_s, 150.0);  // every successful run (paper: 105 s)
+  EXPECT_LE(t.worst_time_s, 150.0);  // every successful run
+  EXPECT_GE(t.median_time_s, 0.67 * 105.0);
+  EXPECT_LE(t.median_time_s, 1.5 * 105.0);
 }
 
 // Sorting three tracers and three cotton wads in stages (scenes/sorting.yaml): the issue asks

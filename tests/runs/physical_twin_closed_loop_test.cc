@@ -152,15 +152,19 @@ TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
   }
 }
 
-// The 25-tracer aggregation as the scenario file ships it (the line search with mu0 25 cm,
-// Sigma0 60 cm^2; the paper's 41.8 cm leaves the outlying tracers in air below their start,
-// docs/twin.md), planning with the model identified above: every tracer in the zone, in a time
-// of the paper's kind (105 s). Seeds 1-10 all succeed in 58-90 s; seed 1 takes 72 s.
-TEST(PhysicalTwinClosedLoop, TheAggregationAsShippedCollectsEveryTracer) {
+// The 25-tracer aggregation planned with the model identified above, from the nearer, wider start
+// that model needs (the line search with mu0 25 cm, Sigma0 60 cm^2). The file's mu0 of 30 cm
+// suits the extended model the twin plans with by default; the identified eq. (8) sees no push
+// toward the point below the nozzle move a tracer from 30 cm (docs/controller.md, the region),
+// and moves nothing there in 150 s (0 of seeds 1-10). From this start: every tracer in the zone,
+// in a time of the paper's kind (105 s). Seeds 1-10 all succeed in 58-90 s; seed 1 takes 72 s.
+TEST(PhysicalTwinClosedLoop, TheAggregationFromANearerWiderStartCollectsEveryTracer) {
   const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
   ASSERT_TRUE(model.is_eq8());
-  const Scenario aggregation = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/aggregation.yaml");
+  Scenario aggregation = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/aggregation.yaml");
+  aggregation.controller.mean0_m = 0.25;
+  aggregation.controller.variance0_m2 = 60e-4;
   ScenarioRunOptions options;
   options.seed = 1;
   options.twin = physical_twin();

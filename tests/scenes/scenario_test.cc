@@ -192,10 +192,13 @@ TEST(Scenario, AggregationScattersTwentyFiveTracersAroundTheZone) {
   EXPECT_GE(min_pairwise(s), 0.06);
   // Nothing starts inside the zone: there is work to do.
   for (const ObjectSpec& o : s.scene.objects) EXPECT_FALSE(s.task.zone.contains(o.p_W)) << o.id;
-  // The line search; the file retunes its start (mean0, variance0) for the twin's field, the
-  // rest stays the paper's.
+  // The line search; the file starts it 30 cm from the farthest tracer instead of 41.8 cm (no
+  // push toward the point below the nozzle moves a tracer from farther in the CFD's air), the
+  // rest stays the paper's, Sigma0 included.
   EXPECT_EQ(s.controller.search, CemSearch::kLine);
   const CemParameters paper = CemParameters::line_defaults();
+  EXPECT_EQ(s.controller.mean0_m, 0.30);
+  EXPECT_EQ(s.controller.variance0_m2, paper.variance0_m2);
   EXPECT_EQ(s.controller.samples, paper.samples);
   EXPECT_EQ(s.controller.elite, paper.elite);
   EXPECT_EQ(s.controller.max_iterations, paper.max_iterations);
