@@ -9,8 +9,9 @@
 // SceneSpec, TwinParameters, field model and seed -> bit-identical states.
 //
 // One step, in order: the actuator advances (servos, delay line, jet level); the rig's joints are
-// set to the actual orientation; the field is (re)built at the effective orientation; turbulence
-// advances; mj_step runs with this twin's air forces registered; the state is checked.
+// set to the actual orientation; the air's field (the CFD's, or else the analytical one) is
+// (re)built at the effective orientation; turbulence advances; mj_step runs with this twin's air
+// forces registered; the state is checked.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -107,7 +108,8 @@ class Twin {
   /// The stagnation point of the air the objects are in now (m, world frame).
   Eigen::Vector2d stagnation_point() const;
   /// The analytical field at the effective orientation, not scaled by the jet level: the air the
-  /// objects are in unless cfd_air is set (then it is built on this call, as no step reads it).
+  /// objects are in unless cfd_air is set (then it is built on this call, as no step reads it; a
+  /// twin's accessors are for the thread that steps it).
   const OrientedField& field() const;
 
   size_t object_count() const;

@@ -157,7 +157,9 @@ TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
 // suits the extended model the twin plans with by default; the identified eq. (8) sees no push
 // toward the point below the nozzle move a tracer from 30 cm (docs/controller.md, the region),
 // and moves nothing there in 150 s (0 of seeds 1-10). From this start: every tracer in the zone,
-// in a time of the paper's kind (105 s). Seeds 1-10 all succeed in 58-90 s; seed 1 takes 72 s.
+// in a time of the paper's kind (105 s). Seeds 1-10 with the script's identified model
+// (scripts/physical_twin_closed_loop.sh --multi, 2026-11-29): 10/10, median 95.4 s, worst 133.2
+// s; here seed 1 takes 118.8 s.
 TEST(PhysicalTwinClosedLoop, TheAggregationFromANearerWiderStartCollectsEveryTracer) {
   const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
