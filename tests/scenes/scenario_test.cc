@@ -227,13 +227,13 @@ TEST(Scenario, SortingMixesThreeOfEachBetweenTwoZones) {
     EXPECT_LT((o.p_W - tracer.centre_W).norm(), 1.25) << o.id;
     EXPECT_LT((o.p_W - cotton.centre_W).norm(), 1.25) << o.id;
   }
-  // In stages, tracers first, with the plane search started from a scan (docs/controller.md).
+  // In stages, tracers first, with the paper's plane search (its Sigma0 too) started from a scan
+  // (docs/controller.md).
   EXPECT_TRUE(s.task.stages_auto);
   EXPECT_DOUBLE_EQ(s.task.deferred_weight, 0.1);
   EXPECT_DOUBLE_EQ(s.task.reach_m, 1.0);
   CemParameters expected = CemParameters::plane_defaults();
   expected.scan_step_m = 0.1;
-  expected.variance0_m2 = 0.005;
   expected.predict_transition = true;
   expect_same(s.controller, with_shipped_additions(expected));
 }
