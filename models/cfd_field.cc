@@ -211,8 +211,8 @@ CfdSample CfdCase::at(double x_m, double y_m, double z_m) const {
   return out;
 }
 
-double CfdCase::plane_at(const std::vector<float>& values, double x_m, double y_m,
-                         double z_m) const {
+double CfdCase::plane_at(const std::vector<float>& values, double x_m, double y_m, size_t lo,
+                         double t) const {
   const double fx = (x_m - x0_m_) / dx_m_, fy = (std::abs(y_m) - y0_m_) / dy_m_;
   if (!(fx >= 0.0 && fy >= 0.0 && fx <= static_cast<double>(nx_ - 1) &&
         fy <= static_cast<double>(ny_ - 1))) {
@@ -229,19 +229,24 @@ double CfdCase::plane_at(const std::vector<float>& values, double x_m, double y_
     const float* r1 = r0 + nx_;
     return (1.0 - ty) * ((1.0 - tx) * r0[0] + tx * r0[1]) + ty * ((1.0 - tx) * r1[0] + tx * r1[1]);
   };
-  const auto [lo, t] = height_bracket(z_m);
   return t > 0.0 ? (1.0 - t) * plane(lo) + t * plane(lo + 1) : plane(lo);
 }
 
 double CfdCase::vertical_at(double x_m, double y_m, double z_m) const {
-  return plane_at(uz_, x_m, y_m, z_m);
+  const auto [lo, t] = height_bracket(z_m);
+  return plane_at(uz_, x_m, y_m, lo, t);
 }
 
 Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, double z_m) const {
+  const auto [lo, t] = height_bracket(z_m);
+  return pressure_gradient_at(x_m, y_m, lo, t);
+}
+
+Eigen::Vector2d CfdCase::pressure_gradient_at(double x_m, double y_m, size_t lo, double t) const {
   // One pitch each side: the bilinear field's own slope jumps at every grid line.
   const double hx = dx_m_, hy = dy_m_;
-  return {(plane_at(p_, x_m + hx, y_m, z_m) - plane_at(p_, x_m - hx, y_m, z_m)) / (2.0 * hx),
-          (plane_at(p_, x_m, y_m + hy, z_m) - plane_at(p_, x_m, y_m - hy, z_m)) / (2.0 * hy)};
+  return {(plane_at(p_, x_m + hx, y_m, lo, t) - plane_at(p_, x_m - hx, y_m, lo, t)) / (2.0 * hx),
+          (plane_at(p_, x_m, y_m + hy, lo, t) - plane_at(p_, x_m, y_m - hy, lo, t)) / (2.0 * hy)};
 }
 
 const char* CfdField::kFormationData =
@@ -381,9 +386,12 @@ Eigen::Vector2d CfdOrientedField::pressure_gradient_at(const Eigen::Vector2d& p_
                                                        double z_m) const {
   const double c = cos_pan_, s = sin_pan_;
   const double x = c * p_W.x() + s * p_W.y(), y = -s * p_W.x() + c * p_W.y();
-  Eigen::Vector2d g = field_->cases_[lo_].pressure_gradient_at(x + shift_lo_, y, z_m);
+  // Every case has the same heights, so one height bracket serves both (as in at()).
+  const CfdCase& lo = field_->cases_[lo_];
+  const auto [h, t] = lo.height_bracket(z_m);
+  Eigen::Vector2d g = lo.pressure_gradient_at(x + shift_lo_, y, h, t);
   if (w_ > 0.0) {
-    g = (1.0 - w_) * g + w_ * field_->cases_[hi_].pressure_gradient_at(x + shift_hi_, y, z_m);
+    g = (1.0 - w_) * g + w_ * field_->cases_[hi_].pressure_gradient_at(x + shift_hi_, y, h, t);
   }
   return {c * g.x() - s * g.y(), s * g.x() + c * g.y()};
 }

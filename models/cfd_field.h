@@ -92,8 +92,12 @@ class CfdCase {
   std::vector<float> uz_;             // [height][iy][ix]
   std::vector<float> p_;              // kinematic pressure, [height][iy][ix]
   double pressure_radius_m_ = 0.0;
-  // Bilinear value of `plane` ([height][iy][ix]) at (x, |y|) and height z; 0 outside the grid.
-  double plane_at(const std::vector<float>& plane, double x_m, double y_m, double z_m) const;
+  // pressure_gradient_at between heights lo and lo + 1 with weight t of the upper one.
+  Eigen::Vector2d pressure_gradient_at(double x_m, double y_m, size_t lo, double t) const;
+  // Bilinear value of `plane` ([height][iy][ix]) at (x, |y|), between heights lo and lo + 1 with
+  // weight t of the upper one (height_bracket); 0 outside the grid.
+  double plane_at(const std::vector<float>& plane, double x_m, double y_m, size_t lo,
+                  double t) const;
 };
 
 class CfdField;
