@@ -75,10 +75,9 @@ floor_of() {
     # The default twin, the physical one (docs/twin.md, "The physical twin by default"), with
     # the sweep clearance (docs/controller.md, "The re-aim's sweep"): seeds 1-30 gave 30/30 for
     # the line, the square and the aggregation (also with mu0 30 cm, 2026-11-29), 29/30 for the
-    # letter A and the octagon, 28/30 for
-    # the sorting (its scan over every point, 2026-11-28; 26/30 with the wads calibrated again,
-    # 29/30 on seeds 31-60; 27/30 and 28/30 with the paper's Sigma0, 2026-11-29); floors at
-    # those rates less one in ten (regression floors).
+    # letter A and the octagon, 28/30 for the sorting (its scan over every point, 2026-11-28;
+    # 26/30 with the wads calibrated again, 29/30 on seeds 31-60; 27/30 and 28/30 with the
+    # paper's Sigma0, 2026-11-29); floors at those rates less one in ten (regression floors).
     line | square | letter_A | octagon | aggregation) echo 0.9 ;;
     sorting) echo 0.8 ;;
     # With vision, seeds 1-10 (docs/twin.md, the default twin's Table I with vision, the camera's
@@ -97,10 +96,10 @@ floor_of() {
     square_varied) echo 0.8 ;;
     letter_A_varied) echo 0.7 ;;
     sorting_varied) echo 0.7 ;;
-    # The mirror (--air model --drag eq8, the constructed table), seeds 1-30 with the paper's CEM in the path files:
-    # line, square and sorting 30/30 (the sorting also with the paper's Sigma0, 2026-11-29), the
-    # letter A 29/30 (seed 3), the octagon 30/30 (26/30
-    # before the blind search's rescue); the aggregation 22/30 with its file's mu0 of 30 cm
+    # The mirror (--air model --drag eq8, the constructed table), seeds 1-30 with the paper's
+    # CEM in the path files: line, square and sorting 30/30 (the sorting also with the paper's
+    # Sigma0, 2026-11-29), the letter A 29/30 (seed 3), the octagon 30/30 (26/30 before the
+    # blind search's rescue); the aggregation 22/30 with its file's mu0 of 30 cm
     # (2026-11-29; 30/30 from mu0 25 cm, Sigma0 60 cm^2): its failed runs end at the 150 s limit
     # with 0-23 of the 25 in the zone.
     line_mirror | square_mirror | octagon_mirror) echo 0.9 ;;

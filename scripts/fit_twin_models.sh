@@ -6,7 +6,8 @@
 #      (`identify --terms 1,v,vair` with the CFD-fitted field model, as the paper fitted its
 #      field to its CFD);
 #   2. closed-loop logs planned with them, at calibration seeds 101-105 (never the seeds the
-#      closed-loop figures are measured on): the line, the square, the letter A and the sorting;
+#      closed-loop figures are measured on): the line, the square, the letter A and the sorting
+#      (its plane search at Sigma0 50 cm^2, named below so the models do not follow the file);
 #   3. `airtwin discrepancy` on all those logs: the cause the identified model lacks, fitted to
 #      them, written as one extended model with both object types.
 # Writes OUT/{tracer,cotton}_identified.json, OUT/extended_model.json and the analysis in
@@ -32,7 +33,7 @@ while [ $# -gt 0 ]; do
     --install) install=1; shift ;;
     --twin-flag) extra+=("$2"); shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fit_twin_models.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
