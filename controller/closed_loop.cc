@@ -131,6 +131,9 @@ ClosedLoop::ClosedLoop(Rig& rig, Controller& controller, const LoopOptions& opti
   if (!(std::isfinite(options.time_limit_s) && options.time_limit_s > 0.0)) {
     throw InputError("loop: the time limit must be a positive number of seconds");
   }
+  if (!(std::isfinite(options.latency_s) && options.latency_s >= 0.0)) {
+    throw InputError("loop: the latency must be a number of seconds >= 0");
+  }
   observe();
 }
 
@@ -156,6 +159,9 @@ const DecisionRecord& ClosedLoop::command(DecisionRecord record) {
 
 void ClosedLoop::command(const NozzleOrientation& target) {
   AIRTWIN_DEMAND(!finished());
+  // The decision's time: the objects move on under the previous command.
+  const double latency = std::min(options_.latency_s, options_.time_limit_s - rig_.time());
+  if (latency > 0.0) rig_.wait(latency);
   rig_.aim(target);
   controller_.assume_nozzle(target);
   pan_rad_ = target.pan_rad;
@@ -163,8 +169,10 @@ void ClosedLoop::command(const NozzleOrientation& target) {
 
 void ClosedLoop::hold() {
   AIRTWIN_DEMAND(!finished());
-  // Never wait past the time limit: the last observation falls on it.
-  rig_.wait(std::min(options_.hold_s, options_.time_limit_s - rig_.time()));
+  // Never wait past the time limit: the last observation falls on it (at once when the
+  // latency reached it).
+  const double hold = std::min(options_.hold_s, options_.time_limit_s - rig_.time());
+  if (hold > 0.0) rig_.wait(hold);
   observe();
 }
 

@@ -98,6 +98,11 @@ struct LoopOptions {
   double hold_s = 1.8;
   /// The run stops, unsuccessful, when rig time reaches this (s).
   double time_limit_s = 300.0;
+  /// From an observation to the aim it leads to (s): the camera's frame, the detection and the
+  /// decision's own computing on a real rig. The objects move on under the previous command
+  /// meanwhile; the controller plans from the observation, as the paper's does. 0: the aim
+  /// follows at once.
+  double latency_s = 0.0;
 };
 
 struct LoopResult {
@@ -125,9 +130,11 @@ class ClosedLoop {
   bool finished() const { return result_.success || time_up_ || result_.lost_every_object; }
   /// The controller's next decision from what is known (its random stream advances).
   DecisionRecord decide() { return controller_.decide(pan_rad_); }
-  /// Aims the rig at the decision's orientation and keeps the record (result().decisions).
+  /// Aims the rig at the decision's orientation, `latency_s` after the observation it used, and
+  /// keeps the record (result().decisions).
   const DecisionRecord& command(DecisionRecord record);
-  /// Aims the rig at an orientation the controller did not choose (rad); the controller is told
+  /// Aims the rig at an orientation the controller did not choose (rad), `latency_s` after the
+  /// last observation (never past the time limit); the controller is told
   /// the nozzle's command (extended planning predicts from it) and the next decision's pan hint
   /// is its pan. No record is kept.
   void command(const NozzleOrientation& target);

@@ -62,6 +62,7 @@ LoopOptions loop_options_of(const Scenario& scenario) {
   LoopOptions o;
   o.hold_s = scenario.controller.horizon_s + scenario.loop.settle_s;
   o.time_limit_s = scenario.task.time_limit_s;
+  o.latency_s = scenario.loop.latency_s;
   return o;
 }
 

@@ -470,9 +470,11 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source)
     s.task = read_task(r, top.required("task"), s.scene.objects);
     s.controller = read_controller(r, top.optional("controller"), s.task.kind);
     if (auto loop = top.optional("loop")) {
-      const MapFields l(r, *loop, {"settle_s"});
+      const MapFields l(r, *loop, {"settle_s", "latency_s"});
       if (auto settle = l.optional("settle_s"))
         s.loop.settle_s = r.in_range(*settle, 0.0, 10.0, " s");
+      if (auto latency = l.optional("latency_s"))
+        s.loop.latency_s = r.in_range(*latency, 0.0, 10.0, " s");
     }
   } catch (const YAML::Exception& e) {
     // yaml-cpp's own complaints while walking the tree (should not happen: every access is

@@ -22,6 +22,7 @@
 //     ...
 //   loop:
 //     settle_s: 0.3              # extra wait after each aim, beyond horizon_s
+//     latency_s: 0               # from an observation to its aim (camera, decision)
 //
 // Every key is checked: an unknown key, a wrong type, a missing required field or a value out of
 // range is one InputError naming the file, the line and the key path (e.g. `task.zone.diameter_m`).
@@ -40,6 +41,10 @@ struct LoopParameters {
   /// travel and the field's delay (the paper: "time lags ... determined by Delta T and a time
   /// delay").
   double settle_s = 0.3;
+  /// From each observation to the aim it leads to (s): what a rig's camera, detection and
+  /// decision take, while the objects move on under the previous command. 0 by default: the
+  /// twin's decision takes no rig time.
+  double latency_s = 0.0;
 };
 
 struct Scenario {

@@ -34,6 +34,8 @@ class ModelRig final : public Rig {
   void aim(const NozzleOrientation& target) override {
     orientation_ = target;
     ++aims_;
+    aim_times_.push_back(t_);
+    aim_positions_.push_back(objects_[0].p_W);
   }
   void wait(double duration_s) override {
     const OrientedField field = model_.at(orientation_);
@@ -55,6 +57,8 @@ class ModelRig final : public Rig {
   double time() const override { return t_; }
 
   int aims_ = 0;
+  std::vector<double> aim_times_;               // rig time of each aim
+  std::vector<Eigen::Vector2d> aim_positions_;  // object 0 at each aim
   int hide_every_ = 0;
   int hide_from_ = 0;                       // object 0 unseen from this observation (1-based) on
   bool report_hidden_out_of_view_ = false;  // ... and reported out of view
@@ -192,6 +196,42 @@ TEST(ClosedLoop, EndsFailedWhenEveryObjectIsLost) {
   EXPECT_TRUE(controller.known().empty());
 }
 
+// A latency between each observation and its aim: the objects move on under the previous
+// command meanwhile, and every turn of the loop takes the latency longer.
+TEST(ClosedLoop, AimsALatencyAfterItsObservation) {
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
+  const ObservedObject start{"t1", "tracer", {-0.26, 0.25}, {0, 0}};
+  ModelRig rig(model, {start});
+  CemParameters cem = CemParameters::line_defaults();
+  cem.mean0_m = 0.3;
+  cem.variance0_m2 = 40e-4;
+  Controller controller(model, cem, line_task(), {{"tracer", kTracerDynamics}}, 1);
+  const LoopResult result = run_closed_loop(rig, controller, LoopOptions{1.5, 120.0, 0.4});
+  ASSERT_GE(result.decisions.size(), 2u);
+  ASSERT_EQ(rig.aim_times_.size(), result.decisions.size());
+  for (size_t k = 0; k < result.decisions.size(); ++k) {
+    EXPECT_NEAR(result.decisions[k].t_s, 1.9 * static_cast<double>(k), 1e-12);
+    EXPECT_NEAR(rig.aim_times_[k], result.decisions[k].t_s + 0.4, 1e-12);
+  }
+  // Before the first aim the tracer moved 0.4 s in the rig's starting air (s at the nozzle's
+  // foot, 36 cm away): where a rig that only waits puts it, and not where it was seen.
+  ModelRig waited(model, {start});
+  waited.wait(0.4);
+  const Eigen::Vector2d moved = waited.observe().objects[0].p_W;
+  EXPECT_EQ(rig.aim_positions_[0], moved);
+  EXPECT_GT((moved - start.p_W).norm(), 0.01);
+  EXPECT_NE(result.decisions[0].objects[0].p_W, moved);  // planned from the observation
+
+  // A latency past the time limit aims at the limit and ends the run there.
+  ModelRig late(model, {start});
+  Controller again(model, cem, line_task(), {{"tracer", kTracerDynamics}}, 1);
+  const LoopResult cut = run_closed_loop(late, again, LoopOptions{1.5, 1.0, 5.0});
+  EXPECT_FALSE(cut.success);
+  EXPECT_DOUBLE_EQ(cut.end_time_s, 1.0);
+  ASSERT_EQ(late.aim_times_.size(), 1u);
+  EXPECT_DOUBLE_EQ(late.aim_times_[0], 1.0);
+}
+
 TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
   const AirFieldModel model = AirFieldModel::with_constructed_table();
   ModelRig rig(model, {ObservedObject{"g", "glass", {0.3, 0.0}, {0, 0}}});
@@ -199,6 +239,8 @@ TEST(ClosedLoop, UnknownTypeAndBadOptionsAreInputErrors) {
                         {{"tracer", kTracerDynamics}}, 1);
   EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{1.5, 10.0}), InputError);
   EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{0.0, 10.0}), InputError);
+  EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{1.5, 10.0, -0.1}), InputError);
+  EXPECT_THROW(run_closed_loop(rig, controller, LoopOptions{1.5, 10.0, std::nan("")}), InputError);
 }
 
 }  // namespace

@@ -72,5 +72,24 @@ TEST(ScenarioEpisode, AFinishedEpisodeRefusesTurns) {
             trajectory_csv(run_scenario(sc, field, options).log));
 }
 
+// The file's loop latency reaches the twin: each turn aims that long after its observation, so
+// a turn takes latency + horizon + settle of rig time.
+TEST(ScenarioEpisode, TheFilesLatencyDelaysEachAim) {
+  Scenario sc = read_scenario(scene("line"));
+  sc.loop.latency_s = 0.5;
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
+  ScenarioRunOptions options;
+  options.seed = 1;
+  ScenarioEpisode episode(sc, field, options);
+  const double turn = 0.5 + sc.controller.horizon_s + sc.loop.settle_s;
+  for (int k = 1; k <= 2; ++k) {
+    episode.step(episode.decide());
+    EXPECT_NEAR(episode.time(), k * turn, 1e-9);
+  }
+  const auto& decisions = episode.result().loop.decisions;
+  ASSERT_EQ(decisions.size(), 2u);
+  EXPECT_NEAR(decisions[1].t_s, turn, 1e-9);
+}
+
 }  // namespace
 }  // namespace airtwin

@@ -119,6 +119,7 @@ TEST(Scenario, LineIsThePapersShortestPathFromItsFirstPoint) {
   EXPECT_EQ(path_references(s.task).size(), 6u);
   expect_same(s.controller, with_shipped_additions(single_object_cem()));
   EXPECT_DOUBLE_EQ(s.loop.settle_s, 0.3);
+  EXPECT_DOUBLE_EQ(s.loop.latency_s, 0.0);
 }
 
 TEST(Scenario, SquareIsClosedWithThePapersLongestPerimeter) {
@@ -330,12 +331,13 @@ TEST(ScenarioDefaults, KeysOverrideTheDefaultsOfTheSearchInForce) {
   const Scenario s = parse_scenario(
       "objects: [{id: a, type: tracer, x: 0, y: 0.3, yaw_deg: 90}]\n"
       "task: {kind: path, path: [[0, 0.3], [0.3, 0.3]], closed: false, time_limit_s: 5}\n"
-      "loop: {settle_s: 0}\n",
+      "loop: {settle_s: 0, latency_s: 0.25}\n",
       "p.yaml");
   ASSERT_TRUE(s.scene.objects[0].yaw_rad.has_value());
   EXPECT_NEAR(*s.scene.objects[0].yaw_rad, M_PI / 2, 1e-12);
   EXPECT_EQ(s.task.path_W.size(), 2u);
   EXPECT_DOUBLE_EQ(s.loop.settle_s, 0.0);
+  EXPECT_DOUBLE_EQ(s.loop.latency_s, 0.25);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -456,6 +458,9 @@ TEST(ScenarioErrors, OutOfRangeValuesSayTheRange) {
   expect_error(std::string(kPathTask) + "controller: {samples: 20, elite: 21}\n", 7,
                "controller.elite", "expected an integer in [1, 20]");
   expect_error(std::string(kPathTask) + "loop: {settle_s: -1}\n", 7, "loop.settle_s", "got '-1'");
+  expect_error(std::string(kPathTask) + "loop: {latency_s: 11}\n", 7, "loop.latency_s", "got '11'");
+  expect_error(std::string(kPathTask) + "loop: {lag_s: 1}\n", 7, "loop.lag_s",
+               "unknown key; expected one of settle_s, latency_s");
   // Two footprints that overlap at the start.
   expect_error(path_task_with(2,
                               "  - {id: a, type: tracer, x: 0.1, y: 0.2}\n"
