@@ -16,6 +16,8 @@
 //     planned with an extended model
 //     (a nozzle offset of (8, 4) deg and a 0.3 s response delay: the extended predictor at 2 ms
 //     steps, the nozzle turning from a previous command), against the fast path in the same run.
+//   BM_CemDecision/sorting_extended_2_threads: sorting_extended with its candidates predicted on
+//     two threads (CemPlanner::set_threads; the same decision), timed on the wall clock.
 // The files' sweep clearance (controller/cem_planner.h) is checked wherever a previous command is
 // given (the sorting's and the */extended decisions); sorting_no_clearance and
 // aggregation_extended_no_clearance are those decisions without it, in the same run.
@@ -35,7 +37,8 @@ namespace airtwin {
 namespace {
 
 void BM_CemDecision(benchmark::State& state, const std::string& name, bool extended,
-                    bool no_scan = false, bool no_transition = false, bool no_clearance = false) {
+                    bool no_scan = false, bool no_transition = false, bool no_clearance = false,
+                    int threads = 1) {
   Scenario sc = read_scenario(std::string(AIRTWIN_SOURCE_DIR) + "/scenes/" + name + ".yaml");
   if (no_scan) sc.controller.scan_step_m = 0.0;
   if (no_clearance) sc.controller.sweep_clearance_m = 0.0;
@@ -48,7 +51,8 @@ void BM_CemDecision(benchmark::State& state, const std::string& name, bool exten
     planning->extensions.tilt_offset_rad = 4.0 * kPi / 180.0;
     planning->extensions.extra_delay_s = 0.3;
   }
-  const CemPlanner planner(model, sc.controller, {}, planning);
+  CemPlanner planner(model, sc.controller, {}, planning);
+  planner.set_threads(threads);
   std::vector<Eigen::Vector2d> p, v;
   std::vector<std::string> types;
   std::vector<ObjectDynamics> xi;
@@ -109,6 +113,10 @@ BENCHMARK_CAPTURE(BM_CemDecision, octagon_extended, std::string("octagon"), true
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, sorting_extended, std::string("sorting"), true)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CemDecision, sorting_extended_2_threads, std::string("sorting"), true, false,
+                  false, false, 2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_CemDecision, aggregation_extended, std::string("aggregation"), true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CemDecision, aggregation_extended_no_clearance, std::string("aggregation"),

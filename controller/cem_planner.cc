@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "common/errors.h"
+#include "common/parallel_for.h"
 #include "controller/task.h"
 
 namespace airtwin {
@@ -481,6 +482,14 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
   return result;
 }
 
+void CemPlanner::set_threads(int threads) {
+  if (threads < 1 || threads > 256) {
+    throw InputError("controller: planner threads must be in [1, 256], got " +
+                     std::to_string(threads));
+  }
+  threads_ = threads;
+}
+
 PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& problem,
                                  RandomStream& rng) const {
   const Predictors preds = predictors_of(predictor_, extended_, extended_predictor_);
@@ -525,6 +534,38 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
   auto spreads = [&](bool keep_spread) {
     return keep_spread && max_pairwise_distance(scratch.end_W) > spread_now + kSpreadTolerance_m;
   };
+  // eq. (10) for each of `points` under `params`, with its command and whether its predicted
+  // ends spread (see `spreads`). On several threads each run of candidates has its own scratch
+  // (the transit shared by a decision's candidates is worked out again in each: the same
+  // values); the results are by candidate, so the decision does not depend on the threads.
+  struct Candidate {
+    double cost = 0.0;
+    bool feasible = false;
+    bool spreads = false;
+    NozzleOrientation command;
+  };
+  auto evaluate_all = [&](const CemParameters& params, const std::vector<Eigen::Vector2d>& points,
+                          bool check_sweep, bool keep_spread, std::vector<Candidate>& out) {
+    out.assign(points.size(), Candidate{});
+    auto one = [&](size_t i, Scratch& work) {
+      Candidate& c = out[i];
+      c.cost = evaluate(model_, preds, params, problem, points[i], work, &c.command, &c.feasible,
+                        check_sweep);
+      c.spreads = keep_spread && c.feasible &&
+                  max_pairwise_distance(work.end_W) > spread_now + kSpreadTolerance_m;
+    };
+    if (threads_ == 1 || points.size() < 2) {
+      for (size_t i = 0; i < points.size(); ++i) one(i, scratch);
+      return;
+    }
+    const size_t runs = std::min(points.size(), static_cast<size_t>(threads_) * 4);
+    parallel_for(runs, threads_, [&](size_t r) {
+      Scratch work;
+      for (size_t i = r * points.size() / runs; i < (r + 1) * points.size() / runs; ++i) {
+        one(i, work);
+      }
+    });
+  };
   auto scan = [&](bool keep_spread) -> std::pair<Eigen::Vector2d, double> {
     Eigen::Vector2d best = Eigen::Vector2d::Zero();
     // Points in a fixed order, ties to the first, so the result is deterministic. With the re-aim
@@ -543,18 +584,20 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
       Eigen::Vector2d s;
       NozzleOrientation command;
     };
-    std::vector<Point> ranked;
+    std::vector<Eigen::Vector2d> grid;
     for (int iy = -half; iy <= half; ++iy) {
       for (int ix = -half; ix <= half; ++ix) {
         const Eigen::Vector2d s(ix * p.scan_step_m, iy * p.scan_step_m);
-        if (s.norm() > r_max) continue;
-        bool feasible = false;
-        NozzleOrientation command;
-        const double c = evaluate(model_, preds, plain, problem, s, scratch, &command, &feasible,
-                                  /*check_sweep=*/false);
-        result.evaluations += feasible ? 1 : 0;
-        if (feasible && !spreads(keep_spread)) ranked.push_back({c, s, command});
+        if (s.norm() <= r_max) grid.push_back(s);
       }
+    }
+    std::vector<Candidate> predicted;
+    evaluate_all(plain, grid, /*check_sweep=*/false, keep_spread, predicted);
+    std::vector<Point> ranked;
+    for (size_t i = 0; i < grid.size(); ++i) {
+      const Candidate& c = predicted[i];
+      result.evaluations += c.feasible ? 1 : 0;
+      if (c.feasible && !c.spreads) ranked.push_back({c.cost, grid[i], c.command});
     }
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const Point& a, const Point& b) { return a.cost < b.cost; });
@@ -603,7 +646,8 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
     }
   }
 
-  std::vector<Eigen::Vector2d> z(n);
+  std::vector<Eigen::Vector2d> z(n), points(n);
+  std::vector<Candidate> drawn;
   std::vector<double> costs(n);
   std::vector<int> order(n);
   double best_cost = std::numeric_limits<double>::infinity();
@@ -621,8 +665,12 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
       const double w0 = rng.normal();
       const double w1 = p.search == CemSearch::kPlane ? rng.normal() : 0.0;
       z[i] = mu + Eigen::Vector2d(l00 * w0, l10 * w0 + l11 * w1);
-      bool feasible = false;
-      costs[i] = evaluate(model_, preds, p, problem, to_point(z[i]), scratch, nullptr, &feasible);
+      points[i] = to_point(z[i]);
+    }
+    evaluate_all(p, points, /*check_sweep=*/true, /*keep_spread=*/false, drawn);
+    for (int i = 0; i < n; ++i) {
+      const bool feasible = drawn[i].feasible;
+      costs[i] = drawn[i].cost;
       result.evaluations += feasible ? 1 : 0;
       if (feasible) {
         lowest_feasible = std::min(lowest_feasible, costs[i]);

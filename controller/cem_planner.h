@@ -220,6 +220,13 @@ class CemPlanner {
   const CemParameters& parameters() const { return params_; }
   const std::optional<ExtendedPlanning>& extended() const { return extended_; }
 
+  /// Threads that predict a decision's candidates (1 by default: the calling thread alone). Any
+  /// number gives the same decision, bit for bit: the samples are drawn before they are
+  /// predicted, and the results are taken in the candidates' order. Throws InputError unless
+  /// `threads` is in [1, 256].
+  void set_threads(int threads);
+  int threads() const { return threads_; }
+
  private:
   PlanResult plan_with(const CemParameters& p, const PlanningProblem& problem,
                        RandomStream& rng) const;
@@ -229,6 +236,7 @@ class CemPlanner {
   FastPredictor predictor_;
   std::optional<ExtendedPlanning> extended_;
   std::optional<ExtendedPredictor> extended_predictor_;
+  int threads_ = 1;
 };
 
 }  // namespace airtwin

@@ -72,6 +72,8 @@ class Controller {
   /// has no dynamics.
   DecisionInputs inputs() const;
   const CemPlanner& planner() const { return planner_; }
+  /// Threads that predict each decision's candidates (CemPlanner::set_threads).
+  void set_planner_threads(int threads) { planner_.set_threads(threads); }
   /// The command the nozzle rests at (the last decision's or assume_nozzle's), if known.
   const std::optional<NozzleOrientation>& nozzle_command() const { return last_command_; }
 

@@ -44,7 +44,8 @@ struct RunResult {
 };
 
 RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
-              const ControllerSetup& controller, const std::string& vary_physics) {
+              const ControllerSetup& controller, const std::string& vary_physics,
+              int planner_threads) {
   const Scenario scenario = read_scenario(scenario_path);
   const AirFieldModel field = controller_field_model(controller);
   ScenarioRunOptions options;
@@ -52,6 +53,7 @@ RunResult run(const std::string& scenario_path, uint64_t seed, const TwinSetup& 
   options.twin = twin_parameters(setup, scenario);
   options.physics_variation = PhysicsVariation::parse(vary_physics, "vary_physics");
   plan_with_model_files(controller_models(controller, setup), field, &options);
+  options.planner_threads = planner_threads;
   py::gil_scoped_release release;
   return {run_scenario(scenario, field, options), scenario.task.time_limit_s};
 }
@@ -63,9 +65,10 @@ class PyEpisode {
   PyEpisode(const std::string& scenario_path, uint64_t seed, const TwinSetup& setup,
             const ControllerSetup& controller, bool vision, const std::string& calib,
             const std::string& calib_dir, double vision_rate_hz, double noise_sigma_grey,
-            double blur_sigma_px, const std::string& vary_physics)
+            double blur_sigma_px, const std::string& vary_physics, int planner_threads)
       : scenario_(read_scenario(scenario_path)), field_(controller_field_model(controller)) {
     options_.seed = seed;
+    options_.planner_threads = planner_threads;
     options_.twin = twin_parameters(setup, scenario_);
     options_.physics_variation = PhysicsVariation::parse(vary_physics, "vary_physics");
     plan_with_model_files(controller_models(controller, setup), field_, &options_);
@@ -205,12 +208,13 @@ void bind_run(py::module_& m) {
          const std::string& mjcf, const std::string& table, const std::vector<std::string>& models,
          std::optional<bool> air_formation, double air_formation_time_scale,
          const std::string& integrator, double air_front_co_flow, double air_front_counter_flow,
-         std::optional<bool> air_turbulence_swept, const std::string& vary_physics) {
+         std::optional<bool> air_turbulence_swept, const std::string& vary_physics,
+         int planner_threads) {
         return run(scenario_path, seed,
                    TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf,
                              air_formation, air_formation_time_scale, integrator, air_front_co_flow,
                              air_front_counter_flow, air_turbulence_swept},
-                   ControllerSetup{table, models}, vary_physics);
+                   ControllerSetup{table, models}, vary_physics, planner_threads);
       },
       py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr, py::arg("air") = "cfd",
       py::arg("drag") = "physical", py::arg("object_physics") = std::vector<std::string>{},
@@ -221,6 +225,7 @@ void bind_run(py::module_& m) {
       py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
       py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
       py::arg("air_turbulence_swept") = py::none(), py::arg("vary_physics") = "none",
+      py::arg("planner_threads") = 1,
       "Runs the scenario in closed loop in the twin (the CEM controller on the twin's truth), as "
       "`airtwin run SCENARIO --seed N` does; the twin's set-up as Twin's (air, cfd, drag, "
       "object_physics, effects, mjcf, air_formation, air_formation_time_scale, integrator: the "
@@ -236,7 +241,9 @@ void bind_run(py::module_& m) {
       "models fitted to it, models/data/twin/extended_model.json or, with "
       "air_turbulence_swept False, models/data/twin_lagrangian/, else the paper's eq. (8)); "
       "vary_physics: each object its own physics drawn from the seed, 'documented' or a spread "
-      "in (0, 0.5], as --vary-physics (the drawn values in summary_json's object_physics).");
+      "in (0, 0.5], as --vary-physics (the drawn values in summary_json's object_physics); "
+      "planner_threads: threads that predict each decision's candidates, as --planner-threads "
+      "(the same run for any number).");
 
   py::class_<DecisionRecord>(m, "Decision", "One decision of the shipped controller.")
       .def_property_readonly(
@@ -265,14 +272,14 @@ void bind_run(py::module_& m) {
                        std::optional<bool> air_formation, double air_formation_time_scale,
                        const std::string& integrator, double air_front_co_flow,
                        double air_front_counter_flow, std::optional<bool> air_turbulence_swept,
-                       const std::string& vary_physics) {
+                       const std::string& vary_physics, int planner_threads) {
              return std::make_unique<PyEpisode>(
                  scenario_path, seed,
                  TwinSetup{air, std::move(cfd), drag, object_physics, effects, mjcf, air_formation,
                            air_formation_time_scale, integrator, air_front_co_flow,
                            air_front_counter_flow, air_turbulence_swept},
                  ControllerSetup{table, models}, vision, calib, calib_dir, vision_rate_hz,
-                 noise_sigma_grey, blur_sigma_px, vary_physics);
+                 noise_sigma_grey, blur_sigma_px, vary_physics, planner_threads);
            }),
            py::arg("scenario_path"), py::arg("seed"), py::arg("cfd") = nullptr,
            py::arg("air") = "cfd", py::arg("drag") = "physical",
@@ -287,6 +294,7 @@ void bind_run(py::module_& m) {
            py::arg("air_front_co_flow") = AirTransportParameters{}.front_co_flow,
            py::arg("air_front_counter_flow") = AirTransportParameters{}.front_counter_flow,
            py::arg("air_turbulence_swept") = py::none(), py::arg("vary_physics") = "none",
+           py::arg("planner_threads") = 1,
            "Set up as run_scenario (the twin's set-up as Twin's, the controller's table and "
            "models); vision: the controller sees "
            "through the detection pipeline on rendered frames (as --vision), with the camera "

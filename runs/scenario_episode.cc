@@ -82,6 +82,7 @@ struct ScenarioEpisode::Impl {
         controller(planning, scenario.controller, scenario.task, options.dynamics, options.seed,
                    kForgetAfter, options.planning_extensions),
         loop_options(loop_options_of(scenario)) {
+    controller.set_planner_threads(options.planner_threads);
     twin.settle_jet();
     run.scenario = scenario.name;
     run.seed = options.seed;

@@ -44,6 +44,9 @@ struct ScenarioRunOptions {
   /// Set: the controller predicts with an extended model's extensions and nozzle response
   /// (controller/cem_planner.h) on the planning field.
   std::optional<ExtendedPlanning> planning_extensions;
+  /// Threads that predict each decision's candidates (CemPlanner::set_threads): the same
+  /// decisions for any number, in less wall-clock time on a machine with the cores.
+  int planner_threads = 1;
   /// Set: the controller sees through the detection pipeline with this calibrated camera
   /// (`--vision`); unset: the twin's truth (fast mode).
   std::optional<CalibratedCamera> vision_camera;

@@ -115,7 +115,8 @@ class AirJetEnv:
     the objects in the CFD's air: None on, True --air-turbulence-swept, False
     --no-air-turbulence-swept), vary_physics (each object its own physics drawn from the
     episode's seed: 'none', 'documented' or a spread in (0, 0.5], as --vary-physics; a new draw
-    at every reset with a new seed: domain randomisation);
+    at every reset with a new seed: domain randomisation), planner_threads (threads that predict
+    each decision's candidates, as --planner-threads: the same decisions for any number);
     the controller's as --table and --model: table (a table CSV or field-model JSON: the
     controller's field model and the twin's analytical air; default the one fitted to the CFD),
     models (model.json or extended_model.json files; controller_action() plans with them;
@@ -136,7 +137,7 @@ class AirJetEnv:
                  cfd=None, drag="physical", object_physics=(), effects=(), mjcf="", table="",
                  models=(), air_formation=None, air_formation_time_scale=0.5,
                  integrator="euler", air_front_co_flow=1.0, air_front_counter_flow=0.0,
-                 air_turbulence_swept=None, vary_physics="none"):
+                 air_turbulence_swept=None, vary_physics="none", planner_threads=1):
         if action_type not in ("stagnation", "orientation"):
             raise ValueError("action_type: expected stagnation or orientation, got '%s'"
                              % action_type)
@@ -154,7 +155,8 @@ class AirJetEnv:
                            air_front_counter_flow=float(air_front_counter_flow),
                            air_turbulence_swept=None if air_turbulence_swept is None
                            else bool(air_turbulence_swept),
-                           vary_physics=str(vary_physics))
+                           vary_physics=str(vary_physics),
+                           planner_threads=int(planner_threads))
         self._vision = dict(vision=bool(vision), calib=calib or "", vision_rate_hz=vision_rate_hz,
                             noise_sigma_grey=noise_sigma_grey, blur_sigma_px=blur_sigma_px)
         self._calib_dir = None

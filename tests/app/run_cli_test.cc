@@ -221,6 +221,20 @@ TEST(RunCli, VisionRunGivesDetectionsAndNozzleLogThatTrajectoriesJoins) {
   EXPECT_GT(compared, 70);
 }
 
+// The planner's threads change when each decision is ready, not what it decides: the same
+// files but the decisions' wall-clock times.
+TEST(RunCli, PlannerThreadsGiveTheSameRun) {
+  const std::string d = scratch_dir("run_threads");
+  for (const char* threads : {"1", "3"}) {
+    const auto r = run_airtwin("run " + kScenes + "line.yaml --seed 2 --quiet --planner-threads " +
+                               threads + " --out " + d + "/t" + threads);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  for (const char* file : {"/log.csv", "/plans.csv", "/nozzle.csv"}) {
+    EXPECT_EQ(slurp(d + "/t1" + file), slurp(d + "/t3" + file)) << file;
+  }
+}
+
 TEST(RunCli, BadInputIsOneClearLine) {
   const std::string d = scratch_dir("run_bad");
   const auto missing = run_airtwin("run " + d + "/none.yaml --out " + d + "/o");
@@ -237,7 +251,7 @@ TEST(RunCli, BadInputIsOneClearLine) {
   for (const std::string flags :
        {"--video-stride 0", "--noise low", "--vision --noise medium", "--vision --vision-rate 7",
         "--calib c.yaml", "--vary-physics 0.7", "--vary-physics lots",
-        "--vary-physics 0.1 --mjcf scene.xml"}) {
+        "--vary-physics 0.1 --mjcf scene.xml", "--planner-threads 0"}) {
     const auto r = run_airtwin(line + flags);
     EXPECT_EQ(r.exit_code, 2) << flags;
     EXPECT_EQ(count_lines(r.err), 1) << flags << ": " << r.err;

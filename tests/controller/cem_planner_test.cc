@@ -843,6 +843,63 @@ TEST_F(CemPlannerTest, KeepCheapestDecidesNoWorseThanTheSearchsSamples) {
   EXPECT_GE(improved, 10);
 }
 
+// The candidates predicted on several threads give the decision of one thread, bit for bit: the
+// plane search after a scan with the re-aim and the sweep clearance, the same planned with an
+// extended model, and a blind line search's rescue scan.
+TEST_F(CemPlannerTest, AnyNumberOfThreadsDecidesTheSame) {
+  auto same = [](const PlanResult& a, const PlanResult& b, const std::string& what) {
+    EXPECT_EQ(a.stagnation_W, b.stagnation_W) << what;
+    EXPECT_EQ(a.cost, b.cost) << what;
+    EXPECT_EQ(a.evaluations, b.evaluations) << what;
+    EXPECT_EQ(a.iterations, b.iterations) << what;
+    EXPECT_EQ(a.blind_scan, b.blind_scan) << what;
+    EXPECT_EQ(a.predicted_end_W, b.predicted_end_W) << what;
+  };
+  auto decide = [&](const CemParameters& params, std::optional<ExtendedPlanning> ext,
+                    const PlanningProblem& pr, int threads) {
+    CemPlanner planner(model_, params, {}, ext);
+    planner.set_threads(threads);
+    EXPECT_EQ(planner.threads(), threads);
+    RandomStream rng(3, RandomPurpose::kController, 0);
+    return planner.plan(pr, rng);
+  };
+  r_ = {{0.6, 0.0}, {0.6, 0.0}, {-0.6, 0.0}};
+  PlanningProblem pr = problem();
+  pr.nozzle_now = NozzleOrientation{140.0 * kPi / 180.0, 0.45};
+  CemParameters plane = CemParameters::plane_defaults();
+  plane.scan_step_m = 0.1;
+  plane.predict_transition = true;
+  plane.sweep_clearance_m = 0.1;
+  plane.keep_cheapest = true;
+  const PlanResult one = decide(plane, std::nullopt, pr, 1);
+  EXPECT_GT(one.evaluations, 300);  // the scan's grid and the samples
+  for (int threads : {2, 3, 8}) {
+    same(one, decide(plane, std::nullopt, pr, threads), "plane, " + std::to_string(threads));
+  }
+  ExtendedPlanning ext;
+  ext.extensions.pan_offset_rad = 0.05;
+  ext.extensions.extra_delay_s = 0.2;
+  plane.scan_step_m = 0.2;
+  plane.samples = 30;
+  plane.elite = 5;
+  same(decide(plane, ext, pr, 1), decide(plane, ext, pr, 2), "extended");
+
+  p_ = {{0.5565, 0.3724}};
+  v_ = {{0.0, 0.0}};
+  xi_ = {kTracerDynamics};
+  r_ = {{0.2728, 0.2429}};
+  CemParameters line = CemParameters::line_defaults();
+  line.variance0_m2 = 0.02;
+  line.scan_step_m = 0.05;
+  const PlanResult blind = decide(line, std::nullopt, problem(), 1);
+  EXPECT_TRUE(blind.blind_scan);
+  same(blind, decide(line, std::nullopt, problem(), 2), "blind line search");
+
+  CemPlanner planner(model_, line);
+  EXPECT_THROW(planner.set_threads(0), InputError);
+  EXPECT_THROW(planner.set_threads(257), InputError);
+}
+
 TEST(CemParameters, DefaultsAreThePapersAndValidateNamesTheField) {
   const CemParameters line = CemParameters::line_defaults();
   EXPECT_EQ(line.samples, 25);

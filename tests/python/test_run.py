@@ -61,6 +61,22 @@ def test_the_defaults_are_the_clis_the_physical_twin(tmp_path):
     assert result.log_csv() != airtwin.run_scenario(str(scenario), 1, **MIRROR_KW).log_csv()
 
 
+def test_planner_threads_give_the_same_run_as_the_cli(tmp_path):
+    """The planner's threads, as --planner-threads: the same run as the CLI's and as one
+    thread's; a count out of range is a ValueError naming it."""
+    scenario = tmp_path / "line.yaml"
+    scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 6"))
+    out = tmp_path / "run"
+    status, _, stderr = run_cli("run", scenario, "--seed", 3, "--planner-threads", 2, "--quiet",
+                                "--out", out)
+    assert status == 0, stderr
+    result = airtwin.run_scenario(str(scenario), 3, planner_threads=2)
+    assert result.log_csv() == (out / "log.csv").read_text()
+    assert result.log_csv() == airtwin.run_scenario(str(scenario), 3).log_csv()
+    with pytest.raises(ValueError, match="planner threads"):
+        airtwin.run_scenario(str(scenario), 3, planner_threads=0)
+
+
 def test_a_run_in_the_cfd_air_equals_the_cli_run(tmp_path):
     scenario = tmp_path / "line.yaml"
     scenario.write_text(open(LINE).read().replace("time_limit_s: 120", "time_limit_s: 8"))
