@@ -14,6 +14,7 @@
 #include "app/progress.h"
 #include "app/run_setup.h"
 #include "common/errors.h"
+#include "controller/cem_planner.h"
 #include "runs/run_video.h"
 #include "runs/scenario_run.h"
 #include "scenes/scenario.h"
@@ -40,8 +41,9 @@ void run_run(const RunArgs& a) {
   const AirFieldModel field = field_model_of(a.setup);
   ScenarioRunOptions options = run_options_of(a.setup);
   options.seed = a.seed;
-  if (a.planner_threads < 1 || a.planner_threads > 256) {
-    throw UsageError("--planner-threads must be in [1, 256]");
+  if (a.planner_threads < 1 || a.planner_threads > CemPlanner::kMaxThreads) {
+    throw UsageError("--planner-threads must be in [1, " + std::to_string(CemPlanner::kMaxThreads) +
+                     "]");
   }
   options.planner_threads = a.planner_threads;
   check_user_scene(a.setup, scenario, options);

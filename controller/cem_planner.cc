@@ -483,9 +483,9 @@ PlanResult CemPlanner::plan(const PlanningProblem& problem, RandomStream& rng) c
 }
 
 void CemPlanner::set_threads(int threads) {
-  if (threads < 1 || threads > 256) {
-    throw InputError("controller: planner threads must be in [1, 256], got " +
-                     std::to_string(threads));
+  if (threads < 1 || threads > kMaxThreads) {
+    throw InputError("controller: planner threads must be in [1, " + std::to_string(kMaxThreads) +
+                     "], got " + std::to_string(threads));
   }
   threads_ = threads;
 }
@@ -531,8 +531,8 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
   // With `keep_spread`, a point whose predicted ends lie farther apart than the objects do now
   // does not count (the blind line search's rescue, see cem_planner.h).
   const double spread_now = max_pairwise_distance(problem.positions_W);
-  auto spreads = [&](bool keep_spread) {
-    return keep_spread && max_pairwise_distance(scratch.end_W) > spread_now + kSpreadTolerance_m;
+  auto spreads = [&](bool keep_spread, const std::vector<Eigen::Vector2d>& end_W) {
+    return keep_spread && max_pairwise_distance(end_W) > spread_now + kSpreadTolerance_m;
   };
   // eq. (10) for each of `points` under `params`, with its command and whether its predicted
   // ends spread (see `spreads`). On several threads each run of candidates has its own scratch
@@ -551,8 +551,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
       Candidate& c = out[i];
       c.cost = evaluate(model_, preds, params, problem, points[i], work, &c.command, &c.feasible,
                         check_sweep);
-      c.spreads = keep_spread && c.feasible &&
-                  max_pairwise_distance(work.end_W) > spread_now + kSpreadTolerance_m;
+      c.spreads = c.feasible && spreads(keep_spread, work.end_W);
     };
     if (threads_ == 1 || points.size() < 2) {
       for (size_t i = 0; i < points.size(); ++i) one(i, scratch);
@@ -617,7 +616,7 @@ PlanResult CemPlanner::plan_with(const CemParameters& p, const PlanningProblem& 
         c = evaluate(model_, preds, p, problem, q.s, scratch, nullptr, &feasible,
                      /*check_sweep=*/false);
         result.evaluations += feasible ? 1 : 0;
-        if (!feasible || spreads(keep_spread)) continue;
+        if (!feasible || spreads(keep_spread, scratch.end_W)) continue;
       }
       if (c < cheapest) {
         cheapest = c;

@@ -223,8 +223,9 @@ class CemPlanner {
   /// Threads that predict a decision's candidates (1 by default: the calling thread alone). Any
   /// number gives the same decision, bit for bit: the samples are drawn before they are
   /// predicted, and the results are taken in the candidates' order. Throws InputError unless
-  /// `threads` is in [1, 256].
+  /// `threads` is in [1, kMaxThreads].
   void set_threads(int threads);
+  static constexpr int kMaxThreads = 256;
   int threads() const { return threads_; }
 
  private:
