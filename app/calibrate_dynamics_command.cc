@@ -2,8 +2,11 @@
 // `identify` on `collect`ed data returns the target coefficients (sim/dynamics_calibration.h).
 // Prints each round and writes a JSON record; docs/twin.md keeps the shipped numbers.
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -14,6 +17,7 @@
 #include "app/commands.h"
 #include "common/csv.h"
 #include "common/errors.h"
+#include "common/quantile.h"
 #include "common/text.h"
 #include "common/units.h"
 #include "models/field_model_file.h"
@@ -30,6 +34,8 @@ struct CalibrateArgs {
   std::string table;                // the controller's field model identification uses
   std::vector<std::string> search;  // --search KEY=MIN:MAX:N (physical drag)
   int refinements = 1;
+  int held_out_seeds = 0;            // --held-out-seeds N: the best point checked on N seeds
+  std::uint64_t held_out_first = 0;  // from this seed (0: the calibration's seed + 1)
   AirFlags air;
   DynamicsCalibrationOptions options;
 };
@@ -85,6 +91,77 @@ DragCalibrationAxis parse_axis(const std::string& text) {
   return a;
 }
 
+// Median and range of a sample, or null when it is empty.
+nlohmann::ordered_json spread(const std::vector<double>& v) {
+  if (v.empty()) return nullptr;
+  return {{"median", quantile(v, 0.5)},
+          {"min", *std::min_element(v.begin(), v.end())},
+          {"max", *std::max_element(v.begin(), v.end())}};
+}
+
+// The record of the held-out checks: each collection's figures, and their spread. The coefficients'
+// error and the end MAPE are of the collections that kept the air term (without it the model is
+// another one, counted apart); the repeatability of all where an object moved.
+template <class PointJson>
+nlohmann::ordered_json held_out_json(const std::vector<DragCalibrationCheck>& checks,
+                                     const PointJson& point_json) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  std::vector<double> worst, repeatability;
+  std::map<double, std::vector<double>> mape;
+  int lost = 0, eq8 = 0;
+  for (const DragCalibrationCheck& k : checks) {
+    nlohmann::ordered_json r = {{"seed", k.seed}};
+    r.update(point_json(k.point));
+    r.erase("values");
+    r["repeatability_pct"] = std::isfinite(k.repeatability_pct)
+                                 ? nlohmann::ordered_json(k.repeatability_pct)
+                                 : nlohmann::ordered_json(nullptr);
+    r["air_term_kept"] = k.air_term_kept();
+    rows.push_back(r);
+    if (std::isfinite(k.repeatability_pct)) repeatability.push_back(k.repeatability_pct);
+    eq8 += k.point.full_library_is_eq8 ? 1 : 0;
+    if (!k.air_term_kept()) {
+      ++lost;
+      continue;
+    }
+    worst.push_back(k.point.worst_relative_error);
+    for (const auto& [tilt, m] : k.point.mape_by_tilt_pct) mape[tilt].push_back(m);
+  }
+  nlohmann::ordered_json by_tilt = nlohmann::ordered_json::object();
+  for (const auto& [tilt, v] : mape) by_tilt[format_number(tilt)] = spread(v);
+  return {{"seeds", rows.size()},
+          {"summary",
+           {{"air_term_lost", lost},
+            {"worst_relative_error", spread(worst)},
+            {"end_position_mape_by_tilt", by_tilt},
+            {"repeatability_pct", spread(repeatability)},
+            {"full_library_is_eq8", eq8}}},
+          {"checks", rows}};
+}
+
+// The summary for people: "median [min-max]" of each figure.
+std::string held_out_text(const nlohmann::ordered_json& summary, size_t seeds) {
+  const auto range = [](const nlohmann::ordered_json& s, double scale) {
+    if (s.is_null()) return std::string("-");
+    char t[64];
+    std::snprintf(t, sizeof t, "%.1f [%.1f-%.1f]", scale * s["median"].get<double>(),
+                  scale * s["min"].get<double>(), scale * s["max"].get<double>());
+    return std::string(t);
+  };
+  std::string mapes;
+  for (const auto& [tilt, s] : summary["end_position_mape_by_tilt"].items()) {
+    mapes += (mapes.empty() ? "" : ", ") + tilt + " deg " + range(s, 1.0) + " %";
+  }
+  const int lost = summary["air_term_lost"].get<int>();
+  return "held out, " + std::to_string(seeds) + " collections: the air term lost in " +
+         std::to_string(lost) + "\n  of the " + std::to_string(seeds - static_cast<size_t>(lost)) +
+         " that keep it: worst coefficient error " + range(summary["worst_relative_error"], 100.0) +
+         " %\n  end MAPE " + (mapes.empty() ? std::string("-") : mapes) + "\n  repeatability " +
+         range(summary["repeatability_pct"], 1.0) +
+         " % (paper 7.7 %)\n  the full library exactly 1, v, vair in " +
+         std::to_string(summary["full_library_is_eq8"].get<int>()) + "\n";
+}
+
 void run_calibrate_physical(CalibrateArgs a) {
   DragCalibrationOptions o;
   o.collection = a.options.collection;
@@ -123,22 +200,38 @@ void run_calibrate_physical(CalibrateArgs a) {
   const auto progress = [&](const DragCalibrationPoint& p, size_t i) {
     std::fprintf(stderr, "calibrate-dynamics: point %zu: %s\n", i + 1, row(p).c_str());
   };
+  std::vector<std::uint64_t> held_out;
+  if (a.held_out_seeds != 0) {
+    require_range(a.held_out_seeds, 1, 1000, "--held-out-seeds", "a count in [1, 1000]");
+    const std::uint64_t first = a.held_out_first != 0 ? a.held_out_first : o.collection.seed + 1;
+    for (int k = 0; k < a.held_out_seeds; ++k) held_out.push_back(first + k);
+    // Checked before the search: a seed list the check would refuse wastes no grid.
+    if (std::find(held_out.begin(), held_out.end(), o.collection.seed) != held_out.end()) {
+      throw UsageError("--held-out-seeds: seeds " + std::to_string(first) + "-" +
+                       std::to_string(held_out.back()) + " hold the calibration's --seed " +
+                       std::to_string(o.collection.seed) + "; start them elsewhere with " +
+                       "--held-out-first-seed");
+    }
+  } else if (a.held_out_first != 0) {
+    throw UsageError("--held-out-first-seed needs --held-out-seeds N");
+  }
   const DragCalibration c = calibrate_drag(o, field, progress);
 
-  nlohmann::ordered_json points = nlohmann::ordered_json::array();
-  for (const DragCalibrationPoint& p : c.points) {
+  const auto point_json = [&](const DragCalibrationPoint& p) {
     nlohmann::ordered_json values = nlohmann::ordered_json::object();
     for (size_t i = 0; i < keys.size(); ++i) values[keys[i]] = p.values[i];
     nlohmann::ordered_json by_tilt = nlohmann::ordered_json::object();
     for (const auto& [tilt, mape] : p.mape_by_tilt_pct) by_tilt[format_number(tilt)] = mape;
-    points.push_back({{"values", values},
-                      {"identified_eq8_form", triple(p.eq8_form)},
-                      {"r2", p.r2},
-                      {"end_position_mape", p.end_position_mape_pct},
-                      {"end_position_mape_by_tilt", by_tilt},
-                      {"worst_relative_error", p.worst_relative_error},
-                      {"full_library_terms", p.full_library_terms}});
-  }
+    return nlohmann::ordered_json{{"values", values},
+                                  {"identified_eq8_form", triple(p.eq8_form)},
+                                  {"r2", p.r2},
+                                  {"end_position_mape", p.end_position_mape_pct},
+                                  {"end_position_mape_by_tilt", by_tilt},
+                                  {"worst_relative_error", p.worst_relative_error},
+                                  {"full_library_terms", p.full_library_terms}};
+  };
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  for (const DragCalibrationPoint& p : c.points) points.push_back(point_json(p));
   const DragCalibrationPoint& best = c.points[c.best];
   std::string physics = o.collection.object + ":";
   for (size_t i = 0; i < keys.size(); ++i) {
@@ -158,11 +251,24 @@ void run_calibrate_physical(CalibrateArgs a) {
       {"per_tilt", o.collection.per_tilt},
       {"seed", o.collection.seed},
       {"points", points}};
-  write_text_file(a.out, j.dump(2) + "\n");
   std::printf(
-      "best of %zu points: %s\n  repeatability %.1f %% (paper 7.7 %%)\n  --object-physics %s\n"
-      "written to %s\n",
-      c.points.size(), row(best).c_str(), c.best_repeatability_pct, physics.c_str(), a.out.c_str());
+      "best of %zu points: %s\n  repeatability %.1f %% (paper 7.7 %%)\n  --object-physics %s\n",
+      c.points.size(), row(best).c_str(), c.best_repeatability_pct, physics.c_str());
+  nlohmann::ordered_json record = j;
+  if (!held_out.empty()) {
+    const auto checked = [&](const DragCalibrationCheck& k, size_t i) {
+      std::fprintf(stderr,
+                   "calibrate-dynamics: held out %zu/%zu, seed %llu: %s  repeatability %.1f%%\n",
+                   i + 1, held_out.size(), static_cast<unsigned long long>(k.seed),
+                   row(k.point).c_str(), k.repeatability_pct);
+    };
+    const std::vector<DragCalibrationCheck> checks =
+        check_drag_point(o, best.values, held_out, field, checked);
+    record["held_out"] = held_out_json(checks, point_json);
+    std::printf("%s", held_out_text(record["held_out"]["summary"], checks.size()).c_str());
+  }
+  write_text_file(a.out, record.dump(2) + "\n");
+  std::printf("written to %s\n", a.out.c_str());
 }
 
 void run_calibrate(CalibrateArgs a) {
@@ -194,8 +300,10 @@ void run_calibrate(CalibrateArgs a) {
     run_calibrate_physical(a);
     return;
   }
-  if (!a.search.empty() || !a.table.empty()) {
-    throw UsageError(std::string(a.search.empty() ? "--table" : "--search") +
+  if (!a.search.empty() || !a.table.empty() || a.held_out_seeds != 0) {
+    throw UsageError(std::string(!a.search.empty()       ? "--search"
+                                 : a.held_out_seeds != 0 ? "--held-out-seeds"
+                                                         : "--table") +
                      " needs --drag physical");
   }
 
@@ -293,6 +401,12 @@ void add_calibrate_dynamics_command(CLI::App& app) {
   sub->add_option("--refinements", args->refinements,
                   "With --drag physical: grids around the best point, each at half the spacing")
       ->capture_default_str();
+  sub->add_option("--held-out-seeds", args->held_out_seeds,
+                  "With --drag physical: check the best point on N collections the search did\n"
+                  "not see (the whole protocol at each seed) and report each figure's median and\n"
+                  "range, and how often the air term is lost");
+  sub->add_option("--held-out-first-seed", args->held_out_first,
+                  "The first of them (default: --seed + 1)");
   sub->add_option("--table", args->table,
                   std::string("With --drag physical: the controller's field model identification\n"
                               "uses (coefficient table CSV or field-model JSON); ") +

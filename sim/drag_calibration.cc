@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "common/errors.h"
 #include "common/text.h"
@@ -159,10 +162,18 @@ DragCalibration calibrate_drag(
     }
     run_grid(from, to);
   }
-  // Repeatability at the best point: the paper's 8 placements at one tilt, six runs each.
+  result.best_repeatability_pct =
+      drag_point_repeatability_pct(o, result.points[result.best].values, field);
+  return result;
+}
+
+double drag_point_repeatability_pct(const DragCalibrationOptions& o,
+                                    const std::vector<double>& values, const AirFieldModel& field) {
+  AIRTWIN_DEMAND(values.size() == o.axes.size());
+  // The paper's 8 placements at one tilt, six runs each.
   CollectionOptions rep = o.collection;
   for (size_t i = 0; i < o.axes.size(); ++i) {
-    set_object_physics_value(o.axes[i].key, result.points[result.best].values[i], &type_of(rep));
+    set_object_physics_value(o.axes[i].key, values[i], &type_of(rep));
   }
   rep.per_tilt = 8;
   rep.tilts_rad = {rep.tilts_rad.front()};
@@ -174,8 +185,39 @@ DragCalibration calibrate_drag(
     sum += *mape;
     ++n;
   }
-  result.best_repeatability_pct = n > 0 ? sum / n : NAN;
-  return result;
+  return n > 0 ? sum / n : NAN;
+}
+
+std::vector<DragCalibrationCheck> check_drag_point(
+    const DragCalibrationOptions& o, const std::vector<double>& values,
+    const std::vector<std::uint64_t>& seeds, const AirFieldModel& field,
+    const std::function<void(const DragCalibrationCheck&, size_t)>& progress) {
+  o.validate();
+  if (seeds.empty()) throw FieldError("calibration.held_out_seeds", "expected at least one seed");
+  for (size_t i = 0; i < seeds.size(); ++i) {
+    if (seeds[i] == o.collection.seed) {
+      throw FieldError("calibration.held_out_seeds",
+                       "seed " + std::to_string(seeds[i]) +
+                           " is the calibration's own: a check needs collections it did not see");
+    }
+    if (std::find(seeds.begin(), seeds.begin() + static_cast<std::ptrdiff_t>(i), seeds[i]) !=
+        seeds.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw FieldError("calibration.held_out_seeds",
+                       "seed " + std::to_string(seeds[i]) + " given twice");
+    }
+  }
+  std::vector<DragCalibrationCheck> out;
+  for (const std::uint64_t seed : seeds) {
+    DragCalibrationOptions at = o;
+    at.collection.seed = seed;
+    DragCalibrationCheck c;
+    c.seed = seed;
+    c.point = evaluate_drag_point(at, values, field);
+    c.repeatability_pct = drag_point_repeatability_pct(at, values, field);
+    out.push_back(std::move(c));
+    if (progress) progress(out.back(), out.size() - 1);
+  }
+  return out;
 }
 
 }  // namespace airtwin

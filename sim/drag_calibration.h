@@ -15,6 +15,7 @@
 // as given (the paper's: the full cubic library), whose selected terms are reported beside it -
 // the paper's identification found exactly eq. (8)'s on its rig.
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -80,5 +81,33 @@ DragCalibrationPoint evaluate_drag_point(const DragCalibrationOptions& options,
 DragCalibration calibrate_drag(
     const DragCalibrationOptions& options, const AirFieldModel& field,
     const std::function<void(const DragCalibrationPoint&, size_t)>& progress = {});
+
+/// The paper's repeatability of the object type with `values` set (sim/dynamics_calibration.h,
+/// repeatability_mape_pct): 8 placements at the collection's first tilt, six runs each, the mean;
+/// NaN when none moved.
+double drag_point_repeatability_pct(const DragCalibrationOptions& options,
+                                    const std::vector<double>& values, const AirFieldModel& field);
+
+/// One point checked on a collection the calibration did not see: the whole protocol (Appendix D,
+/// both fits, the repeatability) at another seed. One collection's figures scatter by more than
+/// sets of parameters differ (docs/twin.md, "The tracer's two sets over 30 collections"), so a
+/// calibration is judged on several.
+struct DragCalibrationCheck {
+  std::uint64_t seed = 0;
+  DragCalibrationPoint point;
+  double repeatability_pct = 0.0;  ///< NaN when none moved
+  /// eq. (8)'s air term survived the identification's threshold: without it the identified
+  /// model says that no air moves the object.
+  bool air_term_kept() const { return point.eq8_form.xi2 > 0.0; }
+};
+
+/// Checks the point `values` on the collections of `seeds`, in order, each evaluated as
+/// calibrate_drag evaluates its points. FieldError ("calibration.held_out_seeds") when `seeds` is
+/// empty, repeats a seed or holds the calibration's own (options.collection.seed).
+/// `progress(check, index)` after each.
+std::vector<DragCalibrationCheck> check_drag_point(
+    const DragCalibrationOptions& options, const std::vector<double>& values,
+    const std::vector<std::uint64_t>& seeds, const AirFieldModel& field,
+    const std::function<void(const DragCalibrationCheck&, size_t)>& progress = {});
 
 }  // namespace airtwin

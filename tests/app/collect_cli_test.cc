@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "common/csv.h"
 #include "models/trajectory_data.h"
@@ -226,6 +227,59 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
                      "--search: axis 1 (cd): window [0.01, 1] is not inside [0.05, 3]");
   expect_usage_error("calibrate-dynamics --drag physical --search cd=0.3:1:3,5 --out x.json",
                      "--search: expected");
+  expect_usage_error("calibrate-dynamics --drag eq8 --held-out-seeds 3 --out x.json",
+                     "--held-out-seeds needs --drag physical");
+  expect_usage_error("calibrate-dynamics --drag physical --held-out-seeds -1 --out x.json",
+                     "--held-out-seeds");
+  expect_usage_error("calibrate-dynamics --drag physical --held-out-first-seed 7 --out x.json",
+                     "--held-out-first-seed needs --held-out-seeds N");
+  expect_usage_error(
+      "calibrate-dynamics --drag physical --seed 5 --held-out-seeds 3 --held-out-first-seed 4 "
+      "--out x.json",
+      "--held-out-seeds: seeds 4-6 hold the calibration's --seed 5");
+}
+
+// The held-out check end to end: the record of each collection, equal to what a calibration at
+// that seed records for the same point, and the summary of them.
+TEST(CollectCli, CalibrationCheckedOnHeldOutSeeds) {
+  const std::string d = scratch_dir("calibrate_held_out");
+  const std::string quick =
+      "calibrate-dynamics --object tracer --air model --drag physical --per-tilt 6 --tilts 0 "
+      "--search cd=0.6 --search mu_k=0.3 ";
+  const auto r = run_airtwin(quick + "--seed 5 --held-out-seeds 2 --out " + d + "/cal.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("held out, 2 collections: the air term lost in "), std::string::npos)
+      << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(d + "/cal.json"));
+  const nlohmann::json& h = j.at("held_out");
+  ASSERT_EQ(h.at("seeds").get<int>(), 2);
+  ASSERT_EQ(h.at("checks").size(), 2u);
+  int lost = 0;
+  for (int k = 0; k < 2; ++k) {
+    const nlohmann::json& c = h.at("checks")[static_cast<size_t>(k)];
+    EXPECT_EQ(c.at("seed").get<int>(), 6 + k);
+    lost += c.at("air_term_kept").get<bool>() ? 0 : 1;
+    if (k > 0) continue;
+    // The same point calibrated at that seed: its own record of it.
+    const std::string own = d + "/own" + std::to_string(6 + k) + ".json";
+    const auto o = run_airtwin(quick + "--seed " + std::to_string(6 + k) + " --out " + own);
+    ASSERT_EQ(o.exit_code, 0) << o.err;
+    const nlohmann::json p = nlohmann::json::parse(read_text_file(own)).at("points")[0];
+    EXPECT_EQ(c.at("identified_eq8_form"), p.at("identified_eq8_form")) << 6 + k;
+    EXPECT_EQ(c.at("end_position_mape_by_tilt"), p.at("end_position_mape_by_tilt")) << 6 + k;
+    EXPECT_EQ(c.at("full_library_terms"), p.at("full_library_terms")) << 6 + k;
+    EXPECT_EQ(c.at("repeatability_pct"),
+              nlohmann::json::parse(read_text_file(own)).at("best_repeatability_pct"))
+        << 6 + k;
+  }
+  const nlohmann::json& s = h.at("summary");
+  EXPECT_EQ(s.at("air_term_lost").get<int>(), lost);
+  if (lost < 2) {
+    EXPECT_LE(s.at("worst_relative_error").at("min").get<double>(),
+              s.at("worst_relative_error").at("median").get<double>());
+    EXPECT_LE(s.at("worst_relative_error").at("median").get<double>(),
+              s.at("worst_relative_error").at("max").get<double>());
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,59 @@ TEST(DragCalibration, GridThenRefinementAndTheBestIsTheClosest) {
   EXPECT_TRUE(std::isfinite(c.best_repeatability_pct));
   EXPECT_GE(c.best_repeatability_pct, 0.0);
   EXPECT_LT(c.best_repeatability_pct, 100.0);
+}
+
+// A check at another seed is what the search itself measures there: the same collection, fits
+// and repeatability as calibrate_drag's point at that seed, and another collection than the
+// calibration's.
+TEST(DragCalibration, HeldOutChecksAreTheSearchesOwnFiguresAtOtherSeeds) {
+  DragCalibrationOptions o = small_options();
+  o.axes = {{ObjectPhysicsKey::kDragCoefficient, 0.8, 0.8, 1},
+            {ObjectPhysicsKey::kKineticFriction, 0.3, 0.3, 1}};
+  o.refinements = 0;
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
+  const std::vector<double> values = {0.8, 0.3};
+  size_t reported = 0;
+  const std::vector<DragCalibrationCheck> checks = check_drag_point(
+      o, values, {6, 7}, field, [&](const DragCalibrationCheck&, size_t i) { reported = i + 1; });
+  ASSERT_EQ(checks.size(), 2u);
+  EXPECT_EQ(reported, 2u);
+  EXPECT_EQ(checks[0].seed, 6u);
+  EXPECT_EQ(checks[1].seed, 7u);
+  for (const DragCalibrationCheck& k : checks)
+    EXPECT_EQ(k.air_term_kept(), k.point.eq8_form.xi2 > 0.0);
+  {
+    const DragCalibrationCheck& k = checks[0];
+    DragCalibrationOptions at = o;
+    at.collection.seed = k.seed;
+    const DragCalibration search = calibrate_drag(at, field);
+    ASSERT_EQ(search.points.size(), 1u);
+    EXPECT_EQ(k.point.values, values);
+    EXPECT_EQ(k.point.eq8_form.xi1, search.points[0].eq8_form.xi1) << k.seed;
+    EXPECT_EQ(k.point.eq8_form.xi2, search.points[0].eq8_form.xi2) << k.seed;
+    EXPECT_EQ(k.point.eq8_form.xi3, search.points[0].eq8_form.xi3) << k.seed;
+    EXPECT_EQ(k.point.full_library_terms, search.points[0].full_library_terms) << k.seed;
+    EXPECT_EQ(k.point.mape_by_tilt_pct, search.points[0].mape_by_tilt_pct) << k.seed;
+    EXPECT_TRUE(k.repeatability_pct == search.best_repeatability_pct ||
+                (std::isnan(k.repeatability_pct) && std::isnan(search.best_repeatability_pct)))
+        << k.seed;
+  }
+  // Two collections, two sets of trajectories: the identified coefficients differ.
+  EXPECT_NE(checks[0].point.eq8_form.xi1, checks[1].point.eq8_form.xi1);
+
+  const auto field_of_check = [&](const std::vector<std::uint64_t>& seeds) {
+    try {
+      check_drag_point(o, values, seeds, field);
+    } catch (const FieldError& e) {
+      return e.field() + ": " + e.detail();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(field_of_check({}), "calibration.held_out_seeds: expected at least one seed");
+  EXPECT_EQ(field_of_check({6, 5}),
+            "calibration.held_out_seeds: seed 5 is the calibration's own: a check needs "
+            "collections it did not see");
+  EXPECT_EQ(field_of_check({6, 6}), "calibration.held_out_seeds: seed 6 given twice");
 }
 
 }  // namespace
