@@ -9,12 +9,16 @@
 
 #include <gtest/gtest.h>
 
+#include "common/quantile.h"
 #include "common/units.h"
 #include "models/identification.h"
 #include "models/trajectory_data.h"
 #include "sim/collection.h"
+#include "sim/drag_calibration.h"
 #include "sim/dynamics_calibration.h"
+#include "sim/object_physics.h"
 #include "tests/support/shipped_cfd.h"
+#include "tests/support/test_run.h"
 
 namespace airtwin {
 namespace {
@@ -159,9 +163,11 @@ void expect_the_shipped_model(const IdentifiedModel& m, const std::string& objec
 // The figures docs/twin.md gives for seed 202, against the paper's. The issue's targets are
 // coefficients within 10 % (tracer) and 20 % (cotton), end-position MAPE within 5 points of the
 // paper's at each tilt. Where physics does not reach them the bound is the nearest reached, with
-// the evidence in docs/twin.md: the tracer's air gain xi2 is 23 % under the paper's (drag on
-// u - v weighs the air and the object's speed alike), the wads' drag rate 22 % under on this seed
-// (16.6 and 19.3 % on seeds 404 and 303), the wads' MAPE at 0 deg 13.0 % against 18.4 - 5.
+// the evidence in docs/twin.md. Seed 202 is a kind draw for the tracer's MAPE: over the held-out
+// collections 102-130 its medians are 16.8 / 40.8 % (the acceptance tier's test below). Here: the
+// tracer's air gain xi2 is 23 % under the paper's (drag on u - v weighs the air and the object's
+// speed alike), the wads' drag rate 22 % under on this seed (16.6 and 19.3 % on seeds 404 and 303),
+// the wads' MAPE at 0 deg 13.0 % against 18.4 - 5.
 TEST(TwinCalibration, PhysicalTracerDataReproduceTheShippedModelAndItsFigures) {
   const IdentifiedModel m = physical_twin_identified("tracer");
   record(m);
@@ -188,6 +194,54 @@ TEST(TwinCalibration, PhysicalCottonDataReproduceTheShippedModelAndItsFigures) {
 // and 8.6 %), within the factor 2 of the mirror's test above.
 TEST(TwinCalibration, PhysicalRepeatabilityFromOneStartIsNearThePapers) {
   expect_repeatability_near_the_papers(physical_twin(), 202, AirFieldModel::fitted_to_cfd());
+}
+
+// The shipped tracer set judged on collections its calibration (seed 101) did not see, seeds
+// 102-130, by the whole protocol at each (Appendix D, identify's defaults, the repeatability).
+// Acceptance tier (~2 min on two cores). The bounds are the medians measured 2026-11-29
+// (docs/twin.md, "The tracer's two sets over 30 collections"; the issue's targets are not reached)
+// with a tenth of margin, so that a change of the twin that takes it further from the paper shows
+// here.
+TEST(TwinCalibration, PhysicalTracerSetOnHeldOutCollections) {
+  if (!testing::acceptance_tier()) GTEST_SKIP() << "acceptance tier (AIRTWIN_TEST_TIER=acceptance)";
+  DragCalibrationOptions o;
+  o.collection.object = "tracer";
+  o.collection.per_tilt = 50;
+  o.collection.seed = 101;
+  o.collection.threads = 0;
+  o.collection.twin = physical_twin();
+  o.target = kTracerDynamics;
+  o.refinements = 0;
+  std::vector<double> values;
+  for (ObjectPhysicsKey key :
+       {ObjectPhysicsKey::kDragCoefficient, ObjectPhysicsKey::kKineticFriction,
+        ObjectPhysicsKey::kStaticRatio, ObjectPhysicsKey::kLiftCoefficient}) {
+    values.push_back(object_physics_value(o.collection.twin.scene.tracer, key));
+    o.axes.push_back({key, values.back(), values.back(), 1});
+  }
+  std::vector<std::uint64_t> seeds;
+  for (std::uint64_t s = 102; s <= 130; ++s) seeds.push_back(s);
+  const std::vector<DragCalibrationCheck> checks =
+      check_drag_point(o, values, seeds, AirFieldModel::fitted_to_cfd());
+  std::vector<double> worst, mape0, mape22, repeatability;
+  int lost = 0;
+  for (const DragCalibrationCheck& k : checks) {
+    if (std::isfinite(k.repeatability_pct)) repeatability.push_back(k.repeatability_pct);
+    if (!k.air_term_kept()) {
+      ++lost;
+      continue;
+    }
+    worst.push_back(k.point.worst_relative_error);
+    mape0.push_back(k.point.mape_by_tilt_pct.at(0.0));
+    mape22.push_back(k.point.mape_by_tilt_pct.at(22.5));
+  }
+  ::testing::Test::RecordProperty("air_term_lost", lost);
+  EXPECT_LE(lost, 13);  // 10 of 29 (the air gain 3.1-3.3 1/s, lambda's threshold 2.8)
+  ASSERT_FALSE(worst.empty());
+  EXPECT_LE(quantile(worst, 0.5), 0.29);          // 26.5 %; the issue: 10 %
+  EXPECT_LE(quantile(mape0, 0.5), 18.5);          // 16.8 %; the paper: 9 %
+  EXPECT_LE(quantile(mape22, 0.5), 45.0);         // 40.8 %; the paper: 19.3 %
+  EXPECT_LE(quantile(repeatability, 0.5), 12.8);  // 11.6 %; the paper: 7.7 %
 }
 
 }  // namespace
