@@ -5,7 +5,8 @@
 #                  scenario over seeds 1-10 (9 of 10 must succeed) and the octagon with vision;
 #                  10 000 steps of the Python env without memory growth
 #   discrepancy    the discrepancy- and calibration-labelled tests in the acceptance tier (null
-#                  data over three collection seeds) once per test seed: each run draws new
+#                  data over three collection seeds; the shipped tracer set on 29 held-out
+#                  Appendix D collections) once per test seed: each run draws new
 #                  hidden-effect magnitudes (default test seeds 1 2 3)
 #   sweep          `airtwin batch` of every shipped scenario over seeds 1-N (default 30), fast
 #                  mode, in the default (physical) twin and in the mirror, and every scenario
