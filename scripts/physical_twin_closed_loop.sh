@@ -11,6 +11,7 @@
 #        [--pushes]
 #        [--physics TYPE:k=v,...]
 #        [--no-formation | --formation-time-scale X] [--still-front] [--model FILE]
+#        [--collection-seed S]
 #        [--multi] [--cotton-physics cotton:k=v,...] [--airtwin PATH] [--out DIR]
 #   --physics, --cotton-physics  other physical parameters than the twin's calibrated defaults
 #                (airtwin's --object-physics)
@@ -34,9 +35,11 @@
 #                grid, seed 11), `airtwin discrepancy` on them with the identified model, and the
 #                batch again planning with that extended model (OUT/pushes/, OUT/batch_pushes/)
 #   --model FILE plan with this identified model instead of collecting and identifying one
+#   --collection-seed S  the Appendix D collection's seed (default 202): one collection's model
+#                succeeds more or less often than another's (docs/twin.md, "The paper's pipeline")
 #   --multi      also the multi-object tasks: the aggregation with the scenario file's settings
 #                and with the paper's (mu0 41.8 cm, Sigma0 20.9 cm^2), and the sorting, its
-#                cotton wads collected and identified as the tracer is (seed 202)
+#                cotton wads collected and identified as the tracer is (the same seed)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -49,6 +52,7 @@ airtwin=build/airtwin
 out=results/physical_twin_closed_loop
 formation=()
 model=""
+collection_seed=202
 multi=0
 cotton_physics=""
 while [ $# -gt 0 ]; do
@@ -62,15 +66,18 @@ while [ $# -gt 0 ]; do
     --formation-time-scale) formation+=(--air-formation-time-scale "$2"); shift 2 ;;
     --still-front) formation+=(--air-front-co-flow 0); shift ;;
     --model) model="$2"; shift 2 ;;
+    --collection-seed) collection_seed="$2"; shift 2 ;;
     --physics) physics="$2"; shift 2 ;;
     --multi) multi=1; shift ;;
     --cotton-physics) cotton_physics="$2"; shift 2 ;;
     --airtwin) airtwin="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,42p' "$0"; exit 0 ;;
     *) echo "physical_twin_closed_loop.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
+[[ "$collection_seed" =~ ^[0-9]+$ ]] ||
+  { echo "physical_twin_closed_loop.sh: --collection-seed: expected a whole number, got '$collection_seed'" >&2; exit 2; }
 [ -x "$airtwin" ] || { echo "physical_twin_closed_loop.sh: no airtwin binary at $airtwin (build first)" >&2; exit 1; }
 
 table=models/data/cfd_fitted_field_model.json
@@ -82,12 +89,13 @@ rm -rf "$out/batch" "$out/batch_multi" "$out/discrepancy_runs" "$out/discrepancy
   "$out/batch_extended" "$out/batch_multi_extended" "$out/sorting_discrepancy_runs" \
   "$out/sorting_discrepancy" "$out/batch_sorting_extended"
 
-# Appendix D in the twin (collection seed 202) and eq. (8)'s terms identified from it.
+# Appendix D in the twin (collection seed 202 unless --collection-seed) and eq. (8)'s terms
+# identified from it.
 if [ -n "$model" ]; then
   [ -f "$model" ] || { echo "physical_twin_closed_loop.sh: --model: no file $model" >&2; exit 1; }
   cp "$model" "$out/tracer_model.json"
 else
-  "$airtwin" collect --object tracer --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
+  "$airtwin" collect --object tracer --tilts 0,22.5 --per-tilt 50 --seed "$collection_seed" "${twin[@]}" \
     --out "$out/collection.csv" > "$out/collect.log" 2>&1
   "$airtwin" identify "$out/collection.csv" --object tracer --table "$table" --terms 1,v,vair \
     --out "$out/tracer_model.json" | sed -n 2,3p
@@ -133,7 +141,7 @@ fi
 # The multi-object tasks (section V-C). The wads: Appendix D in the twin, eq. (8)'s terms
 # identified as the tracer's were.
 [ -z "$cotton_physics" ] || twin+=(--object-physics "$cotton_physics")
-"$airtwin" collect --object cotton --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" \
+"$airtwin" collect --object cotton --tilts 0,22.5 --per-tilt 50 --seed "$collection_seed" "${twin[@]}" \
   --out "$out/cotton_collection.csv" > "$out/collect_cotton.log" 2>&1
 "$airtwin" identify "$out/cotton_collection.csv" --object cotton --table "$table" --terms 1,v,vair \
   --out "$out/cotton_model.json" | sed -n 2,3p
