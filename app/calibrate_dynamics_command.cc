@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -17,7 +16,6 @@
 #include "app/commands.h"
 #include "common/csv.h"
 #include "common/errors.h"
-#include "common/quantile.h"
 #include "common/text.h"
 #include "common/units.h"
 #include "models/field_model_file.h"
@@ -91,24 +89,17 @@ DragCalibrationAxis parse_axis(const std::string& text) {
   return a;
 }
 
-// Median and range of a sample, or null when it is empty.
-nlohmann::ordered_json spread(const std::vector<double>& v) {
-  if (v.empty()) return nullptr;
-  return {{"median", quantile(v, 0.5)},
-          {"min", *std::min_element(v.begin(), v.end())},
-          {"max", *std::max_element(v.begin(), v.end())}};
+// Median and range of a figure, or null when no check had it.
+nlohmann::ordered_json spread(const DragCheckSpread& s) {
+  if (s.n == 0) return nullptr;
+  return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
 
-// The record of the held-out checks: each collection's figures, and their spread. The coefficients'
-// error and the end MAPE are of the collections that kept the air term (without it the model is
-// another one, counted apart); the repeatability of all where an object moved.
+// The record of the held-out checks: each collection's figures, and their summary.
 template <class PointJson>
 nlohmann::ordered_json held_out_json(const std::vector<DragCalibrationCheck>& checks,
                                      const PointJson& point_json) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  std::vector<double> worst, repeatability;
-  std::map<double, std::vector<double>> mape;
-  int lost = 0, eq8 = 0;
   for (const DragCalibrationCheck& k : checks) {
     nlohmann::ordered_json r = {{"seed", k.seed}};
     r.update(point_json(k.point));
@@ -118,24 +109,17 @@ nlohmann::ordered_json held_out_json(const std::vector<DragCalibrationCheck>& ch
                                  : nlohmann::ordered_json(nullptr);
     r["air_term_kept"] = k.air_term_kept();
     rows.push_back(r);
-    if (std::isfinite(k.repeatability_pct)) repeatability.push_back(k.repeatability_pct);
-    eq8 += k.point.full_library_is_eq8 ? 1 : 0;
-    if (!k.air_term_kept()) {
-      ++lost;
-      continue;
-    }
-    worst.push_back(k.point.worst_relative_error);
-    for (const auto& [tilt, m] : k.point.mape_by_tilt_pct) mape[tilt].push_back(m);
   }
+  const DragCheckSummary sum = summarize_checks(checks);
   nlohmann::ordered_json by_tilt = nlohmann::ordered_json::object();
-  for (const auto& [tilt, v] : mape) by_tilt[format_number(tilt)] = spread(v);
+  for (const auto& [tilt, v] : sum.mape_by_tilt_pct) by_tilt[format_number(tilt)] = spread(v);
   return {{"seeds", rows.size()},
           {"summary",
-           {{"air_term_lost", lost},
-            {"worst_relative_error", spread(worst)},
+           {{"air_term_lost", sum.air_term_lost},
+            {"worst_relative_error", spread(sum.worst_relative_error)},
             {"end_position_mape_by_tilt", by_tilt},
-            {"repeatability_pct", spread(repeatability)},
-            {"full_library_is_eq8", eq8}}},
+            {"repeatability_pct", spread(sum.repeatability_pct)},
+            {"full_library_is_eq8", sum.full_library_is_eq8}}},
           {"checks", rows}};
 }
 

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "common/errors.h"
+#include "common/quantile.h"
 #include "common/text.h"
 #include "sim/dynamics_calibration.h"
 
@@ -217,6 +218,38 @@ std::vector<DragCalibrationCheck> check_drag_point(
     out.push_back(std::move(c));
     if (progress) progress(out.back(), out.size() - 1);
   }
+  return out;
+}
+
+namespace {
+DragCheckSpread spread_of(const std::vector<double>& v) {
+  DragCheckSpread s;
+  s.n = v.size();
+  if (v.empty()) return s;
+  s.median = quantile(v, 0.5);
+  s.min = *std::min_element(v.begin(), v.end());
+  s.max = *std::max_element(v.begin(), v.end());
+  return s;
+}
+}  // namespace
+
+DragCheckSummary summarize_checks(const std::vector<DragCalibrationCheck>& checks) {
+  DragCheckSummary out;
+  std::vector<double> worst, repeatability;
+  std::map<double, std::vector<double>> mape;
+  for (const DragCalibrationCheck& k : checks) {
+    if (std::isfinite(k.repeatability_pct)) repeatability.push_back(k.repeatability_pct);
+    if (k.point.full_library_is_eq8) ++out.full_library_is_eq8;
+    if (!k.air_term_kept()) {
+      ++out.air_term_lost;
+      continue;
+    }
+    worst.push_back(k.point.worst_relative_error);
+    for (const auto& [tilt, m] : k.point.mape_by_tilt_pct) mape[tilt].push_back(m);
+  }
+  out.worst_relative_error = spread_of(worst);
+  for (const auto& [tilt, v] : mape) out.mape_by_tilt_pct[tilt] = spread_of(v);
+  out.repeatability_pct = spread_of(repeatability);
   return out;
 }
 

@@ -15,6 +15,8 @@
 // as given (the paper's: the full cubic library), whose selected terms are reported beside it -
 // the paper's identification found exactly eq. (8)'s on its rig.
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -109,5 +111,24 @@ std::vector<DragCalibrationCheck> check_drag_point(
     const DragCalibrationOptions& options, const std::vector<double>& values,
     const std::vector<std::uint64_t>& seeds, const AirFieldModel& field,
     const std::function<void(const DragCalibrationCheck&, size_t)>& progress = {});
+
+/// The median and range of one figure over checks; n 0 (and NaN) when none had it.
+struct DragCheckSpread {
+  size_t n = 0;
+  double median = NAN, min = NAN, max = NAN;
+};
+
+/// What held-out checks say together. The coefficients' error and the end MAPE are of the checks
+/// that kept the air term (without it the identified model is another one, counted apart); the
+/// repeatability of those where an object moved.
+struct DragCheckSummary {
+  int air_term_lost = 0;
+  DragCheckSpread worst_relative_error;
+  std::map<double, DragCheckSpread> mape_by_tilt_pct;  ///< by tilt (deg)
+  DragCheckSpread repeatability_pct;
+  int full_library_is_eq8 = 0;  ///< checks whose full library selected exactly 1, v, vair
+};
+
+DragCheckSummary summarize_checks(const std::vector<DragCalibrationCheck>& checks);
 
 }  // namespace airtwin

@@ -139,6 +139,26 @@ TEST(DragCalibration, HeldOutChecksAreTheSearchesOwnFiguresAtOtherSeeds) {
   // Two collections, two sets of trajectories: the identified coefficients differ.
   EXPECT_NE(checks[0].point.eq8_form.xi1, checks[1].point.eq8_form.xi1);
 
+  // The summary against its definition: two values' median is their mean; a check without the
+  // air term counts apart and leaves the coefficients' and MAPE's spread.
+  std::vector<DragCalibrationCheck> two = checks;
+  two[0].point.eq8_form.xi2 = 0.8;
+  two[1].point.eq8_form.xi2 = 0.9;
+  const DragCheckSummary both = summarize_checks(two);
+  EXPECT_EQ(both.air_term_lost, 0);
+  EXPECT_EQ(both.worst_relative_error.n, 2u);
+  EXPECT_DOUBLE_EQ(both.worst_relative_error.median,
+                   0.5 * (two[0].point.worst_relative_error + two[1].point.worst_relative_error));
+  EXPECT_EQ(both.worst_relative_error.min,
+            std::min(two[0].point.worst_relative_error, two[1].point.worst_relative_error));
+  two[1].point.eq8_form.xi2 = 0.0;
+  two[1].repeatability_pct = NAN;
+  const DragCheckSummary one = summarize_checks(two);
+  EXPECT_EQ(one.air_term_lost, 1);
+  EXPECT_EQ(one.worst_relative_error.n, 1u);
+  EXPECT_EQ(one.worst_relative_error.median, two[0].point.worst_relative_error);
+  EXPECT_EQ(one.repeatability_pct.n, std::isfinite(two[0].repeatability_pct) ? 1u : 0u);
+
   const auto field_of_check = [&](const std::vector<std::uint64_t>& seeds) {
     try {
       check_drag_point(o, values, seeds, field);
