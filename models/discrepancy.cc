@@ -434,7 +434,11 @@ struct Route {
 //   first round by a delta BIC of 0.7 and nothing passed on top of it. A quadratic drag and a
 //   stronger field both raise the push where Appendix D's objects start: with a slope beside
 //   the field, the drag won by 6 and the slope then missed the held-out test (p 0.028).
-// Of those, the one the training windows support best.
+// Each of those is a route of its own, the lead first and then the others by their delta BIC
+// (kMaxOtherRoutes at most): causes that mimic one another come in threes (a stronger field, a
+// quadratic drag and the air's lift all raise the push where Appendix D's objects start), and with
+// the slope beside x1.277 the lift passed second, ahead of the field scale.
+constexpr size_t kMaxOtherRoutes = 3;
 struct Fork {
   Route state;  // at the round's start
   int round = 0;
@@ -450,13 +454,15 @@ struct Fork {
 // then fits 1.09 for 1.33, its held-out p 0.07; with a shorter delay, the delay's delta BIC was
 // -0.3, its held-out p 0.005). The candidates larger than negligible that the training windows
 // favour (delta BIC below 0) or the held-out test supports (p below the corrected level), the
-// five best supported by the training windows at most, are fitted two at a time; each pair
+// six best supported by the training windows at most (three of them may be mimics of one
+// another: with the delay, x1.22 and the slope, the air's lift, the quadratic drag and the field
+// scale came first), are fitted two at a time; each pair
 // is tested by the rule with both parameter counts, at alpha corrected for the round's
 // candidates and pairs together; the pair the training windows support best of those passing
 // enters as two causes. Returns whether one did.
 bool enter_pair(const RouteContext& c, int round, const std::vector<CandidateResult>& results,
                 Route* route) {
-  constexpr size_t kMaxPairCandidates = 5;
+  constexpr size_t kMaxPairCandidates = 6;
   // Only before any cause: once one is modelled, the provisional lead covers masking.
   if (!route->sel.chosen.empty() || c.o.max_found < 2) return false;
   std::vector<const CandidateResult*> pool;
@@ -506,8 +512,8 @@ bool enter_pair(const RouteContext& c, int round, const std::vector<CandidateRes
 
 // The forward selection's rounds from `route`'s state. With `start`, its round is not fitted
 // again and its candidate takes the place of the cause found there (provisionally for a lead);
-// without it, the first fork met is stored in `fork` (when not null).
-void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::optional<Fork>* fork) {
+// without it, the forks of the first round that has any are stored in `forks` (when not null).
+void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::vector<Fork>* forks) {
   const DiscrepancyOptions& o = c.o;
   Selection& sel = route->sel;
   const int first = start != nullptr ? start->round : static_cast<int>(route->rounds.size());
@@ -562,16 +568,21 @@ void run_rounds(const RouteContext& c, const Fork* start, Route* route, std::opt
       } else {
         best = &*it;
       }
-    } else if (fork != nullptr && !fork->has_value() && best != nullptr && !route->provisional &&
+    } else if (forks != nullptr && forks->empty() && best != nullptr && !route->provisional &&
                round + 1 < o.max_found) {
-      const CandidateResult* other = lead != best ? lead : nullptr;
+      std::vector<const CandidateResult*> others;
       for (const CandidateResult& r : results) {
-        if (&r != best && r.significant && (other == nullptr || r.delta_bic < other->delta_bic)) {
-          other = &r;
-        }
+        if (&r != best && &r != lead && r.significant) others.push_back(&r);
       }
-      if (other != nullptr) {
-        *fork = Fork{*route, round, results, figures, none_frequency, other->name, other == lead};
+      std::sort(others.begin(), others.end(),
+                [](const CandidateResult* x, const CandidateResult* y) {
+                  return x->delta_bic < y->delta_bic;
+                });
+      if (lead != nullptr && lead != best) others.insert(others.begin(), lead);
+      if (others.size() > kMaxOtherRoutes) others.resize(kMaxOtherRoutes);
+      for (const CandidateResult* other : others) {
+        forks->push_back(
+            Fork{*route, round, results, figures, none_frequency, other->name, other == lead});
       }
     }
     route->none_frequency.push_back(none_frequency);
@@ -698,35 +709,45 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   const double reference_ratio = route.sel.base.static_friction_ratio;
   route.sel.current = route.sel.base;
   route.sel.figures = figures_of(ev, route.sel.current, train, held);
-  std::optional<Fork> fork;
-  run_rounds(ctx, nullptr, &route, &fork);
+  std::vector<Fork> forks;
+  run_rounds(ctx, nullptr, &route, &forks);
   finish_route(ctx, &route);
-  // The other route (Fork): from the first round whose decision could have gone another way, the
-  // other candidate takes the found cause's place and the selection runs on from there. The
-  // other route is reported when it keeps that candidate and its held-out path errors are
-  // significantly the lower ones (the one-sided signed rank at alpha); otherwise the first.
-  if (fork) {
-    say("the other route: " + fork->name + (fork->provisional ? " provisionally" : "") +
-        " in round " + std::to_string(fork->round + 1));
-    Route other = fork->state;
-    run_rounds(ctx, &*fork, &other, nullptr);
+  // The other routes (Fork): from the first round whose decision could have gone another way,
+  // each other candidate takes the found cause's place and the selection runs on from there. An
+  // other route qualifies when it keeps that candidate and its held-out path errors are
+  // significantly lower than the first route's (the one-sided signed rank at alpha); of those
+  // that qualify, the one with the lowest held-out cost is reported, otherwise the first.
+  std::vector<Route> others;
+  int taken = -1;
+  for (const Fork& fork : forks) {
+    say("the other route: " + fork.name + (fork.provisional ? " provisionally" : "") +
+        " in round " + std::to_string(fork.round + 1));
+    Route other = fork.state;
+    run_rounds(ctx, &fork, &other, nullptr);
     finish_route(ctx, &other);
     AlternativeRoute a;
-    a.round = fork->round + 1;
-    a.lead = fork->name;
-    a.provisional = fork->provisional;
+    a.round = fork.round + 1;
+    a.lead = fork.name;
+    a.provisional = fork.provisional;
     a.found_first = route.sel.chosen;
     a.found_other = other.sel.chosen;
     a.cost_first = sum_squares(route.sel.figures.held);
     a.cost_other = sum_squares(other.sel.figures.held);
-    const bool kept = std::find(other.sel.chosen.begin(), other.sel.chosen.end(), fork->name) !=
+    const bool kept = std::find(other.sel.chosen.begin(), other.sel.chosen.end(), fork.name) !=
                       other.sel.chosen.end();
     a.p_value = kept && other.sel.chosen != route.sel.chosen
                     ? p_chosen_beats_rival(other.sel.figures, route.sel.figures, ctx.windows)
                     : 1.0;
-    a.taken = a.p_value < o.alpha;
-    if (a.taken) route = std::move(other);
+    if (a.p_value < o.alpha &&
+        (taken < 0 || a.cost_other < report.alternative[static_cast<size_t>(taken)].cost_other)) {
+      taken = static_cast<int>(report.alternative.size());
+    }
     report.alternative.push_back(a);
+    others.push_back(std::move(other));
+  }
+  if (taken >= 0) {
+    report.alternative[static_cast<size_t>(taken)].taken = true;
+    route = std::move(others[static_cast<size_t>(taken)]);
   }
   Selection& sel = route.sel;
   report.rounds = route.rounds;

@@ -157,6 +157,8 @@ std::vector<std::vector<double>> fit_grid(const std::string& name) {
       return {lin(0.4, 2.4, 21)};
     case EffectId::kTransportLag:
       return {lin(0.0, 2.0, 11)};
+    case EffectId::kAirLift:
+      return {lin(0.0, 0.2, 11)};
   }
   AIRTWIN_DEMAND(false);
   return {};

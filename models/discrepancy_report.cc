@@ -341,6 +341,8 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
     for (const std::string& n : v) t += (t.empty() ? "" : ", ") + n;
     return t.empty() ? std::string("none") : t;
   };
+  const bool any_taken = std::any_of(r.alternative.begin(), r.alternative.end(),
+                                     [](const AlternativeRoute& a) { return a.taken; });
   for (const AlternativeRoute& a : r.alternative) {
     md += "- The other route: in round " + std::to_string(a.round) + " a cause was found while " +
           a.lead +
@@ -351,8 +353,11 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           " there the selection found " + names_of(a.found_other) + " (held-out cost " +
           fixed(a.cost_other, 3) + ") against " + names_of(a.found_first) + " (" +
           fixed(a.cost_first, 3) + "; its path errors the lower: p " +
-          (a.p_value < 1e-4 ? std::string("< 1e-4") : fixed(a.p_value, 4)) +
-          "): " + (a.taken ? "the other route is reported" : "the first route is reported") + ".\n";
+          (a.p_value < 1e-4 ? std::string("< 1e-4") : fixed(a.p_value, 4)) + "): " +
+          (a.taken     ? "this route is reported"
+           : any_taken ? "another route is reported"
+                       : "the first route is reported") +
+          ".\n";
   }
   if (!r.alternative.empty()) md += "\n";
   for (const PairEntry& e : r.pairs) {
@@ -364,13 +369,15 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           (e.significant ? "they pass together" : "not passing") + ".\n";
   }
   if (!r.pairs.empty()) md += "\n";
-  const bool other_taken = !r.alternative.empty() && r.alternative.front().taken;
+  std::string taken_lead;  // the lead of the other route reported, if any
+  for (const AlternativeRoute& a : r.alternative) {
+    if (a.taken) taken_lead = a.lead;
+  }
   for (const std::string& p : r.provisional) {
     md +=
         "- " + p + " entered provisionally: " +
-        (other_taken && p == r.alternative.front().lead
-             ? std::string("the other route's lead")
-             : std::string("no candidate passed alone in its round")) +
+        (p == taken_lead ? std::string("the other route's lead")
+                         : std::string("no candidate passed alone in its round")) +
         ", and the training windows supported it best (effects can mask each other until one "
         "is modelled); " +
         (std::find(r.found.begin(), r.found.end(), p) != r.found.end()

@@ -71,6 +71,13 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "each object feels the orientation whose air, spreading from s at 1 / pace, has reached it",
        {{"pace_s_per_m", "s/m", 0.6, 0.0, true, 0.0, 5.0, 0.0, 2.0}},
        0.1},  // s/m: 0.04 s at 0.4 m from s, about a camera frame
+      {EffectId::kAirLift,
+       "air_lift",
+       "the air flowing past an object lifts it, unloading its contact: friction falls as the "
+       "relative air speed grows",
+       "upward lift of lift_s2_per_m2 |u_rel|^2 times each object's weight, u_rel = u_air - v",
+       {{"lift_s2_per_m2", "s^2/m^2", 0.05, 0.0, true, 0.0, 1.0, 0.0, 0.2}},
+       0.01},  // s^2/m^2: 4 % of friction at 2 m/s of relative air
   }};
   return catalogue;
 }

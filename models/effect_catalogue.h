@@ -28,6 +28,9 @@
 //   transport_lag      pace_s_per_m (s/m): a new orientation's air spreads from its s as the wall
 //                      jet's front, 1 / pace fast: a point r from s feels it pace r later (at
 //                      most kMaxTransportLagS).
+//   air_lift           lift_s2_per_m2 (s^2/m^2): the air flowing past an object lifts the
+//                      fraction k |u - v|^2 of its weight, so its friction is
+//                      |xi3| max(0, 1 - k |u - v|^2) (1/2 rho C_L A_base / (m g) of a body).
 
 #include <array>
 #include <cstddef>
@@ -47,8 +50,9 @@ enum class EffectId {
   kNozzleOffset,
   kFieldScale,
   kTransportLag,
+  kAirLift,
 };
-inline constexpr size_t kEffectCount = 9;
+inline constexpr size_t kEffectCount = 10;
 
 /// The longest transport lag (s) the twin and the model carry: a point farther from s than
 /// this times the front's speed feels the orientation of this long ago.

@@ -50,13 +50,17 @@ struct Pull {
             Eigen::Vector2d(std::cos(ext.slope_direction_rad), std::sin(ext.slope_direction_rad))),
         push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {}
 
-  // The acceleration without friction at (p, v) in `field` (an OrientedField or OrientedRays).
+  // The acceleration without friction at (p, v) in `field` (an OrientedField or OrientedRays),
+  // and the fraction of friction the air's lift leaves there.
   template <typename Field>
-  Eigen::Vector2d operator()(const Field& field, const Eigen::Vector2d& p,
-                             const Eigen::Vector2d& v) const {
+  Eigen::Vector2d operator()(const Field& field, const Eigen::Vector2d& p, const Eigen::Vector2d& v,
+                             double* friction_left) const {
     const Eigen::Vector2d u0 = field.velocity(p);
     const Eigen::Vector2d u = ext.field_scale * Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(),
                                                                 sin_d * u0.x() + cos_d * u0.y());
+    *friction_left = ext.lift_s2_per_m2 > 0.0
+                         ? std::max(0.0, 1.0 - ext.lift_s2_per_m2 * (u - v).squaredNorm())
+                         : 1.0;
     Eigen::Vector2d a = xi.xi1 * v + xi.xi2 * u + slope;
     if (ext.quadratic_drag_per_m != 0.0) {
       const Eigen::Vector2d rel = u - v;
@@ -92,10 +96,11 @@ struct Mover {
 
   template <typename Field>
   void step(const Field& field, double h) {
+    double left = 1.0;  // the fraction of friction the lift leaves
     if (moving) {
-      const Eigen::Vector2d v_new = v + h * pull(field, p, v);
+      const Eigen::Vector2d v_new = v + h * pull(field, p, v, &left);
       const double speed = v_new.norm();
-      const double friction = h * kinetic;
+      const double friction = h * kinetic * left;
       if (speed <= friction) {
         v.setZero();  // friction would reverse it: the object stops
         moving = false;
@@ -104,10 +109,10 @@ struct Mover {
         p += h * v;
       }
     } else if (!held) {
-      const Eigen::Vector2d a0 = pull(field, p, Eigen::Vector2d::Zero());
+      const Eigen::Vector2d a0 = pull(field, p, Eigen::Vector2d::Zero(), &left);
       const double a0_norm = a0.norm();
-      if (a0_norm > static_pull) {
-        v = h * (a0_norm - kinetic) / a0_norm * a0;
+      if (a0_norm > static_pull * left) {
+        v = h * (a0_norm - kinetic * left) / a0_norm * a0;
         p += h * v;
         moving = true;
       } else {

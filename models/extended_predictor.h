@@ -13,9 +13,10 @@
 // orientation = NozzleTimeline::effective(t, tau) + nozzle_offset; with the transport lag the
 // object at p feels instead the newest such orientation o(t') whose air has spread to it from
 // its stagnation point s(t'): t - t' >= min(pace |p - s(t')|, kMaxTransportLagS) (each object
-// its own orientation while a re-aim's front spreads). An object at rest starts when
-// the pull without friction exceeds stiction-ratio times |xi3|; a moving object stops when
-// friction would reverse it. Under one orientation and with every extension off, the velocity
+// its own orientation while a re-aim's front spreads). The air lifts the object (air_lift): its
+// friction is |xi3| max(0, 1 - k |u - v|^2), static and kinetic alike. An object at rest starts
+// when the pull without friction exceeds stiction-ratio times that friction; a moving object stops
+// when friction would reverse it. Under one orientation and with every extension off, the velocity
 // stays radial from s and this is exactly eqs. (8)-(9) (tests/models/extended_predictor_test.cc
 // checks it against the CVODE reference).
 //

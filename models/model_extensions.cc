@@ -30,6 +30,8 @@ std::vector<double> typed_values(const ModelExtensions& x, EffectId id) {
       return {x.field_scale};
     case EffectId::kTransportLag:
       return {x.transport_pace_s_per_m};
+    case EffectId::kAirLift:
+      return {x.lift_s2_per_m2};
   }
   AIRTWIN_DEMAND(false);
   return {};
@@ -66,6 +68,9 @@ void set_values(ModelExtensions* x, EffectId id, const std::vector<double>& v) {
       return;
     case EffectId::kTransportLag:
       x->transport_pace_s_per_m = v[0];
+      return;
+    case EffectId::kAirLift:
+      x->lift_s2_per_m2 = v[0];
       return;
   }
   AIRTWIN_DEMAND(false);

@@ -28,6 +28,8 @@ struct ModelExtensions {
   /// transport_lag: a point r from s feels an orientation min(pace r, kMaxTransportLagS) after
   /// it reached s (s/m, >= 0; 0: the field swings rigidly)
   double transport_pace_s_per_m = 0.0;
+  /// air_lift: friction times max(0, 1 - k |u - v|^2) (s^2/m^2, >= 0; 0: eq. (8)'s constant)
+  double lift_s2_per_m2 = 0.0;
 
   /// Throws InputError naming the effect and parameter when a value is not finite or out of its
   /// physical range (the catalogue's).

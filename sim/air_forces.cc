@@ -69,6 +69,8 @@ void AirForceParameters::validate() const {
         extra_push_mps2);
   check(std::isfinite(extra_push_length_m) && extra_push_length_m > 0,
         "extra_push_length_m (expected > 0)", extra_push_length_m);
+  check(std::isfinite(lift_per_weight_s2pm2) && lift_per_weight_s2pm2 >= 0,
+        "lift_per_weight_s2pm2 (expected >= 0)", lift_per_weight_s2pm2);
 }
 
 AirForces::AirForces(const AirForceParameters& params, const SceneParameters& scene,
@@ -330,6 +332,7 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
   const double i_near = params_.turbulence_near, i_far = params_.turbulence_far;
   const double lt2 = params_.turbulence_length_m * params_.turbulence_length_m;
   const double c_quadratic = params_.quadratic_drag_per_m;
+  const double lift_per_weight = params_.lift_per_weight_s2pm2 * g_normal;  // k g (s^2/m^2 m/s^2)
 
   // Every body's centre of mass and velocity, and the mean air velocity there, in one batch.
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -457,6 +460,12 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       if (c_quadratic > 0.0) {
         const Eigen::Vector2d u_rel = u - v;
         f += w * obj.mass_kg * c_quadratic * u_rel.norm() * u_rel;
+      }
+      if (lift_per_weight > 0.0) {
+        // The air_lift effect: the fraction k |u_rel|^2 of the body's share of the weight.
+        const double lift = w * obj.mass_kg * lift_per_weight * (u - v).squaredNorm();
+        lift_body_[col] += lift;
+        lift_total += lift;
       }
       const Eigen::Vector2d from_s = p - s_W;
       const double r2 = from_s.squaredNorm();

@@ -57,7 +57,8 @@
 // speed (mean and turbulent, so the stagnation pressure by f^2); flow_deflection turns the mean
 // air velocity by a fixed angle (counter-clockwise positive) at the same speed; quadratic_drag
 // adds a w_b m_o C_q |u_rel| u_rel with u_rel = u(p) - v; pressure_gradient adds a radial push of
-// peak acceleration A at r = l / sqrt(2): a(r) = J^2 f^2 A sqrt(2e) (r / l) exp(-(r / l)^2).
+// peak acceleration A at r = l / sqrt(2): a(r) = J^2 f^2 A sqrt(2e) (r / l) exp(-(r / l)^2);
+// air_lift adds an upward w_b k m_o g |u_rel|^2 that unloads the contact as the physical lift does.
 // Static friction holds against the in-plane part of gravity too (a sloped floor).
 //
 // Speed. The generalised force of a body is written straight into qfrc_passive: for a one-body
@@ -117,6 +118,10 @@ struct AirForceParameters {
   double quadratic_drag_per_m = 0.0;  ///< C_q (1/m): extra a = C_q |u_rel| u_rel
   double extra_push_mps2 = 0.0;       ///< A (m/s^2): peak of the extra radial push
   double extra_push_length_m = 0.15;  ///< l (m): its decay length (peak at l / sqrt(2))
+  /// k (s^2/m^2): an upward lift k m_o g |u_rel|^2 on each object (by area share), under either
+  /// drag law and on top of the physical law's own: its contact, so its friction, falls by the
+  /// fraction k |u_rel|^2.
+  double lift_per_weight_s2pm2 = 0.0;
 
   /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
   static AirForceParameters none();

@@ -165,6 +165,9 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
       params->air_transport.front_counter_flow = 0.0;
       params->analytical_air_transport = true;
       return;
+    case EffectId::kAirLift:
+      params->air.lift_per_weight_s2pm2 = v[0];
+      return;
   }
   AIRTWIN_DEMAND(false);
 }

@@ -20,6 +20,10 @@
 //   nozzle_offset      nozzle.{pan,tilt}_offset_rad: the nozzle turns to command + offset, the
 //                      recorded command stays the command.
 //   field_scale        air.field_scale: mean air and turbulence times factor.
+//   transport_lag      air_transport.front_speed_mps = 1 / pace (analytical transport).
+//   air_lift           air.lift_per_weight_s2pm2: an upward lift k m g |u_rel|^2 on each
+//                      object, which unloads its contact (1/2 rho C_L A_base / (m g) of a tracer
+//                      with C_L 0.2 is ~0.054 s^2/m^2).
 
 #include <string>
 #include <utility>

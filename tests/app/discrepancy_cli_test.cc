@@ -141,17 +141,31 @@ void expect_parameters(const Hidden& h, const Drawn& d, const json& r) {
   }
 }
 
-// What may be named beside the hidden effect: nothing, or, when `push_may_show`, the twin's own
-// stagnation-pressure push near s (AirForceParameters: p_s over the radius b), which the nominal
-// model lacks and null data leave below significance (a 3 % path error gain): once a large
-// effect is modelled the residual is small enough to show it. It must then be named for what it
-// is, pressure_gradient with its length within 25 % of b.
-void expect_only_companions(const json& r, const std::string& hidden, bool push_may_show) {
+// What may be named beside the hidden effect: nothing, or what the twin has beyond the model
+// that null data leave below significance and a large modelled effect lets show:
+// - when `push_may_show`, the twin's own stagnation-pressure push near s (AirForceParameters: p_s
+//   over the radius b; a 3 % path error gain on null data), named for what it is,
+//   pressure_gradient with its length within 25 % of b;
+// - for cotton, the wad's friction falling with the air: the twin's wad is 27 elements on soft
+//   contacts, not eq. (8)'s point (kCottonTwinPhysics). Null data (seed 51) leave it at delta
+//   BIC -5.1, p 0.02; beside x1.34 it passed on top of the scale (0.018 s^2/m^2, held-out cost
+//   halved, p 0.0035). Named as air_lift, at most 0.03 s^2/m^2 (a tracer's C_L of 0.11).
+void expect_only_companions(const json& r, const std::string& hidden, bool push_may_show,
+                            bool lift_may_show) {
   ASSERT_TRUE(r["found"].is_array() && !r["found"].empty()) << r.dump(1);
-  ASSERT_EQ(r["found"][0], hidden) << r.dump(1);
-  for (size_t i = 1; i < r["found"].size(); ++i) {
+  ASSERT_TRUE(std::find(r["found"].begin(), r["found"].end(), hidden) != r["found"].end())
+      << r.dump(1);
+  for (const json& name : r["found"]) {
+    if (name == hidden) continue;
+    if (lift_may_show && name == "air_lift") {
+      const double k = r["extensions"]["air_lift"]["lift_s2_per_m2"].get<double>();
+      EXPECT_LE(k, 0.03) << "air_lift beside " << hidden;
+      std::printf(
+          "also named: the wad's own friction falling with the air, air_lift %.4g s^2/m^2\n", k);
+      continue;
+    }
     ASSERT_TRUE(push_may_show) << "named beside " << hidden << ": " << r["found"].dump();
-    ASSERT_EQ(r["found"][i], "pressure_gradient") << r["found"].dump();
+    ASSERT_EQ(name, "pressure_gradient") << r["found"].dump();
     const double b = AirForceParameters{}.pressure_radius_m;
     const double length = r["extensions"]["pressure_gradient"]["length"].get<double>();
     EXPECT_LE(std::abs(length - b), 0.25 * b) << "pressure_gradient.length " << length;
@@ -178,7 +192,7 @@ void expect_found(const Hidden& h, int seed, const std::string& object = "tracer
   const std::string csv =
       collect(object + "_" + h.name, "--effect " + d.text, collection, true, object);
   const json r = analyse(csv, scratch_dir("discrepancy_" + object + "_" + h.name + "_out"));
-  expect_only_companions(r, h.name, push_may_show);
+  expect_only_companions(r, h.name, push_may_show, object == "cotton");
   if (::testing::Test::HasFatalFailure()) return;
   expect_parameters(h, d, r);
   const double base = r["baseline_end_mape"].get<double>();
@@ -266,6 +280,12 @@ TEST(DiscrepancyCli, FindsTransportLag) {
   // (expect_only_companions).
   expect_found({"transport_lag", {{"pace_s_per_m", 0.5, 1.0, false}}, {0.2}, true}, 29, "tracer",
                true);
+}
+TEST(DiscrepancyCli, FindsAirLift) {
+  // 0.035-0.06 s^2/m^2: a tracer's C_L of 0.13-0.22 (0.054 per 0.2). Below ~0.03 a quadratic drag
+  // explains nearly as much (0.02 beat it by a delta BIC of 4 only): both add most where the air
+  // outruns the object. Fitted within 10 % over seeds 30-37 (docs/discrepancy.md).
+  expect_found({"air_lift", {{"lift_s2_per_m2", 0.035, 0.06, false}}, {0.2}}, 30);
 }
 
 // Two or three effects hidden at once must be found jointly, each parameter within 25 % (the
@@ -388,6 +408,17 @@ TEST(DiscrepancyCli, FindsThreeEffectsJointly) {
 // they were drawn: each needs one of the selection's ways around effects that mask each other.
 Drawn fixed_draw(const std::string& text, std::vector<double> truth) { return {text, truth}; }
 
+// The other route the report took (null if none); one at most is taken.
+json taken_route(const json& r) {
+  json taken;
+  for (const json& a : r["alternative"]) {
+    if (!a["taken"].get<bool>()) continue;
+    EXPECT_TRUE(taken.is_null()) << "two routes taken: " << r["alternative"].dump(1);
+    taken = a;
+  }
+  return taken;
+}
+
 TEST(DiscrepancyCli, FollowsTheOtherRouteWhenAWeakerCausePassesFirst) {
   // Test seed 102 at collection seed 44: transport_lag passed in round 1 and was named alone,
   // while the delay (delta BIC -40 against the lag's -22) failed only its held-out end MAPE.
@@ -399,19 +430,19 @@ TEST(DiscrepancyCli, FollowsTheOtherRouteWhenAWeakerCausePassesFirst) {
        fixed_draw("response_delay:tau_s=0.7257", {0.7257})},
       44, &r);
   if (::testing::Test::HasFatalFailure()) return;
-  ASSERT_EQ(r["alternative"].size(), 1u) << r.dump(1);
-  EXPECT_EQ(r["alternative"][0]["lead"], "response_delay");
-  EXPECT_TRUE(r["alternative"][0]["taken"].get<bool>()) << r["alternative"].dump(1);
-  EXPECT_LT(r["alternative"][0]["heldout_cost_other"].get<double>(),
-            r["alternative"][0]["heldout_cost_first"].get<double>());
+  const json taken = taken_route(r);
+  ASSERT_FALSE(taken.is_null()) << r["alternative"].dump(1);
+  EXPECT_EQ(taken["lead"], "response_delay");
+  EXPECT_TRUE(taken["provisional"].get<bool>());
+  EXPECT_LT(taken["heldout_cost_other"].get<double>(), taken["heldout_cost_first"].get<double>());
 }
 
 // The other route from another cause that passed in round 1, taking the found cause's place.
 void expect_other_route_from(const std::string& cause, const json& r) {
-  ASSERT_EQ(r["alternative"].size(), 1u) << r.dump(1);
-  EXPECT_EQ(r["alternative"][0]["lead"], cause);
-  EXPECT_FALSE(r["alternative"][0]["provisional"].get<bool>());
-  EXPECT_TRUE(r["alternative"][0]["taken"].get<bool>()) << r["alternative"].dump(1);
+  const json taken = taken_route(r);
+  ASSERT_FALSE(taken.is_null()) << r["alternative"].dump(1);
+  EXPECT_EQ(taken["lead"], cause);
+  EXPECT_FALSE(taken["provisional"].get<bool>());
 }
 
 TEST(DiscrepancyCli, FollowsTheOtherRouteWhenAMimicWinsTheRound) {

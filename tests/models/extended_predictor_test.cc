@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "common/errors.h"
@@ -72,14 +74,16 @@ TEST(ExtendedPredictor, NominalIsEquations8And9) {
 }
 
 // Extra terms along the ray, checked against a 1-D RK4 integration of
-//   dv/dt = xi1 v + xi2 f u(r) + xi3 + C (f u - v)|f u - v| + f^2 A sqrt(2e) (r/l) exp(-(r/l)^2).
+//   dv/dt = xi1 v + xi2 f u(r) + xi3 max(0, 1 - k (f u - v)^2) + C (f u - v)|f u - v|
+//           + f^2 A sqrt(2e) (r/l) exp(-(r/l)^2).
 double ray_reference(const ObjectDynamics& xi, double f, double c, double A, double l, double r0,
                      const Eigen::Vector2d& s, const Eigen::Vector2d& e, const OrientedField& of,
-                     double t_end) {
+                     double t_end, double k = 0.0) {
   auto acc = [&](double r, double v) {
     const double u = f * of.speed(s + r * e);
     const double x = r / l;
-    double a = xi.xi1 * v + xi.xi2 * u + xi.xi3 + c * (u - v) * std::abs(u - v);
+    const double friction = xi.xi3 * std::max(0.0, 1.0 - k * (u - v) * (u - v));
+    double a = xi.xi1 * v + xi.xi2 * u + friction + c * (u - v) * std::abs(u - v);
     a += f * f * A * std::sqrt(2.0 * std::exp(1.0)) * x * std::exp(-x * x);
     return a;
   };
@@ -118,6 +122,44 @@ TEST(ExtendedPredictor, QuadraticDragPushAndScaleAlongARay) {
     EXPECT_NEAR((ours[0] - s).norm(), r_ref, 4e-3) << f << " " << c << " " << A;
     EXPECT_LT(std::abs((ours[0] - s).normalized().dot(Eigen::Vector2d(-e.y(), e.x()))), 1e-6);
   }
+}
+
+// The air's lift: friction times max(0, 1 - k |u - v|^2) along the ray, alone and beside the
+// quadratic drag; and an object the full friction holds starts once the lift unloads it.
+TEST(ExtendedPredictor, AirLiftUnloadsTheFrictionAlongARay) {
+  const OrientedField of = field().at(kO);
+  const Eigen::Vector2d s = of.stagnation_point(), e(0.6, 0.8);
+  const double t_end = 0.6;
+  const double r0 = 0.25;
+  const Eigen::Vector2d p0 = s + r0 * e;
+  const double plain =
+      (predict(kTracerDynamics, {}, settled(kO), p0, kAtRest, {t_end})[0] - s).norm();
+  for (const auto& [k, c] : std::vector<std::pair<double, double>>{{0.05, 0.0}, {0.1, 0.5}}) {
+    ModelExtensions ext;
+    ext.lift_s2_per_m2 = k;
+    ext.quadratic_drag_per_m = c;
+    const std::vector<Eigen::Vector2d> ours =
+        predict(kTracerDynamics, ext, settled(kO), p0, kAtRest, {t_end});
+    const double r_ref = ray_reference(kTracerDynamics, 1.0, c, 0.0, 0.15, r0, s, e, of, t_end, k);
+    EXPECT_NEAR((ours[0] - s).norm(), r_ref, 4e-3) << "k " << k << " C " << c;
+    // Less friction, a longer slide: more than the step's error apart.
+    EXPECT_GT((ours[0] - s).norm(), plain + 0.02) << "k " << k;
+  }
+
+  // Where the drive is between 0.8 and 0.9 times the friction, held at k = 0; with the lift the
+  // friction left is 1 - k u^2 of it, below the drive once k u^2 > 0.2.
+  const ObjectDynamics& xi = kTracerDynamics;
+  double r = 0.2;
+  while (xi.xi2 * of.speed(s + r * e) > 0.9 * -xi.xi3 && r < 2.0) r += 0.005;
+  const double u = of.speed(s + r * e);
+  ASSERT_GT(xi.xi2 * u, 0.8 * -xi.xi3);
+  const Eigen::Vector2d held = s + r * e;
+  EXPECT_EQ(predict(xi, {}, settled(kO), held, kAtRest, {1.0})[0], held);
+  ModelExtensions weak, strong;
+  weak.lift_s2_per_m2 = 0.05 / (u * u);    // leaves 95 % of the friction: still held
+  strong.lift_s2_per_m2 = 0.25 / (u * u);  // leaves 75 %: starts
+  EXPECT_EQ(predict(xi, weak, settled(kO), held, kAtRest, {1.0})[0], held);
+  EXPECT_GT((predict(xi, strong, settled(kO), held, kAtRest, {1.0})[0] - held).norm(), 0.005);
 }
 
 TEST(ExtendedPredictor, OffsetAndDelayAreShiftsOfTheCommands) {

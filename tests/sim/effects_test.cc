@@ -139,7 +139,8 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
        parse_effect("quadratic_drag:coefficient=0.8"),
        parse_effect("floor_slope:angle_deg=3,direction_deg=90"), parse_effect("stiction:ratio=2.5"),
        parse_effect("nozzle_offset:pan_deg=-2"), parse_effect("field_scale:factor=1.3"),
-       parse_effect("transport_lag:pace_s_per_m=0.8")},
+       parse_effect("transport_lag:pace_s_per_m=0.8"),
+       parse_effect("air_lift:lift_s2_per_m2=0.07")},
       &p);
   EXPECT_EQ(p.air.extra_push_mps2, 6.0);
   EXPECT_EQ(p.air.extra_push_length_m, 0.1);
@@ -162,6 +163,8 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
   EXPECT_EQ(p.air_transport.front_counter_flow, 0.0);
   EXPECT_TRUE(p.analytical_air_transport);
   EXPECT_FALSE(nominal.analytical_air_transport);
+  EXPECT_EQ(p.air.lift_per_weight_s2pm2, 0.07);
+  EXPECT_EQ(nominal.air.lift_per_weight_s2pm2, 0.0);
   // Nothing else moved.
   EXPECT_EQ(p.air.stagnation_pressure_pa, nominal.air.stagnation_pressure_pa);
   EXPECT_EQ(p.scene.tracer.kinetic_friction, nominal.scene.tracer.kinetic_friction);
@@ -384,6 +387,32 @@ TEST_F(EffectPhysics, QuadraticDragAddsCTimesTheSquaredRelativeSpeed) {
   const double gained = quadratic[1].v_W.norm() - nominal[1].v_W.norm();
   EXPECT_NEAR(gained, 0.5 * u * u * 0.02, 0.25 * 0.5 * u * u * 0.02);
   EXPECT_GT((quadratic.back().p_W - start).norm(), (nominal.back().p_W - start).norm() + 0.02);
+}
+
+TEST_F(EffectPhysics, AirLiftSlidesAsEquationEightWithTheFrictionItLeaves) {
+  // The lift k m g |u - v|^2 unloads MuJoCo's contact: the slide follows eq. (8) with friction
+  // xi3 max(0, 1 - k (u - v)^2), within the nominal twin's agreement with eq. (8), and reaches
+  // farther than without it.
+  const Eigen::Vector2d start(0.35, 0.1);
+  const std::vector<ObjectMotion> nominal = run(quiet(), start, 1.5);
+  const std::vector<ObjectMotion> lifted =
+      run(with(quiet(), "air_lift:lift_s2_per_m2=0.06"), start, 1.5);
+  const OrientedField field = field_model().at({0.0, 0.0});
+  const std::vector<double> truth = testing::eq8_ray_reference(
+      field, quiet().scene.tracer.dynamics(), lifted.front().p_W, 1.5, 0.025, 1.0, 0.06);
+  const Eigen::Vector2d s = field.stagnation_point();
+  double worst = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    worst = std::max(worst, std::abs((lifted[i].p_W - s).norm() - truth[i]));
+  }
+  const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
+  const double travel_lifted = (lifted.back().p_W - lifted.front().p_W).norm();
+  std::printf(
+      "air_lift 0.06 s^2/m^2: travel %.1f cm (without %.1f), eq. (8) with it %.1f cm, "
+      "worst %.1f mm\n",
+      travel_lifted * 100, travel_nominal * 100, (truth.back() - truth.front()) * 100, worst * 1e3);
+  EXPECT_GT(travel_lifted, travel_nominal + 0.05);
+  EXPECT_LT(worst, 0.04 * (truth.back() - truth.front()) + 0.002);
 }
 
 TEST_F(EffectPhysics, StictionHoldsATracerThatSlidesNominally) {

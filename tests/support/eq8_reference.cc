@@ -1,20 +1,26 @@
 #include "tests/support/eq8_reference.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace airtwin::testing {
 
 std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDynamics& xi,
                                       const Eigen::Vector2d& p0_W, double duration_s,
-                                      double sample_dt_s, double air_scale) {
+                                      double sample_dt_s, double air_scale, double lift_s2pm2) {
   const Eigen::Vector2d s = field.stagnation_point();
   const Eigen::Vector2d u = (p0_W - s).normalized();
   auto air = [&](double r) { return air_scale * field.speed(s + r * u); };
-  auto accel = [&](double r, double v) { return xi.acceleration(v, air(r)); };
+  auto friction = [&](double r, double v) {
+    const double rel = air(r) - v;
+    return xi.xi3 * std::max(0.0, 1.0 - lift_s2pm2 * rel * rel);
+  };
+  auto accel = [&](double r, double v) { return xi.xi1 * v + xi.xi2 * air(r) + friction(r, v); };
+  auto drive = [&](double r) { return xi.xi2 * air(r) + friction(r, 0.0); };
   const double h = 1e-4;
   const int per_sample = static_cast<int>(std::lround(sample_dt_s / h));
   double r = (p0_W - s).norm(), v = 0.0;
-  bool moving = xi.drive(air(r)) > 0;
+  bool moving = drive(r) > 0;
   std::vector<double> samples{r};
   const int n = static_cast<int>(std::lround(duration_s / sample_dt_s));
   for (int i = 0; i < n; ++i) {
@@ -25,7 +31,7 @@ std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDy
       const double k4r = v + h * k3v, k4v = accel(r + h * k3r, v + h * k3v);
       r += h / 6 * (k1r + 2 * k2r + 2 * k3r + k4r);
       v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-      if (v <= 0 && xi.drive(air(r)) <= 0) moving = false;
+      if (v <= 0 && drive(r) <= 0) moving = false;
     }
     samples.push_back(r);
   }

@@ -1,7 +1,8 @@
 #pragma once
 // An independent integration of eqs. (8)-(9) along one ray from s, for tests that compare a
-// simulation with the model: dr/dt = v, dv/dt = xi1 v + xi2 scale u(r) + xi3 by RK4 at 0.1 ms,
-// starting at rest, with the stop of eq. (9) (v reaches 0 where the drive is <= 0).
+// simulation with the model: dr/dt = v, dv/dt = xi1 v + xi2 scale u(r) + xi3 L by RK4 at 0.1 ms,
+// starting at rest, with the stop of eq. (9) (v reaches 0 where the drive is <= 0). L is 1, or
+// with the air's lift k, max(0, 1 - k (scale u - v)^2) (the air_lift effect).
 
 #include <Eigen/Core>
 #include <vector>
@@ -12,9 +13,10 @@
 namespace airtwin::testing {
 
 /// The distance r (m) from s at t = 0, sample_dt, ..., duration for an object starting at rest at
-/// p0_W; the air speed is scaled by `air_scale`.
+/// p0_W; the air speed is scaled by `air_scale`; `lift_s2pm2` is k (s^2/m^2).
 std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDynamics& xi,
                                       const Eigen::Vector2d& p0_W, double duration_s,
-                                      double sample_dt_s, double air_scale = 1.0);
+                                      double sample_dt_s, double air_scale = 1.0,
+                                      double lift_s2pm2 = 0.0);
 
 }  // namespace airtwin::testing
