@@ -337,9 +337,9 @@ std::vector<BackwardCheck> backward_check(const Evaluator& ev, const std::vector
 // that mimics another (a quadratic drag and a stronger field both raise the push where Appendix
 // D's objects start, and the first round cannot tell them apart while a delay and a slope are
 // still unmodelled). With the later causes in the model, each such rival takes the cause's
-// place, the selection is refitted from there, and the exchange is kept when it lowers the
-// held-out cost and the backward check then keeps every cause. `rounds` and `entered` (the round
-// each cause entered in) say who the rivals are.
+// place and the selection is refitted from there; of the exchanges that lower the held-out cost,
+// the one with the lowest that the backward check then keeps whole is kept. `rounds` and `entered`
+// (the round each cause entered in) say who the rivals are.
 std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size_t>& train,
                                      const std::vector<size_t>& held,
                                      const DecisionWindows& windows, const DecisionRule& rule,
@@ -354,9 +354,18 @@ std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size
   for (const std::string& name : order) {
     const auto round = entered.find(name);
     if (round == entered.end()) continue;
+    // Every rival of the cause's round in its place; of those with the lower held-out cost, the
+    // lowest that the backward check keeps whole is taken (the best exchange, not the first in
+    // catalogue order: a quadratic drag must not take a lift's place ahead of the field scale
+    // that would do better).
+    struct Tried {
+      Selection alt;
+      std::string rival;
+      size_t exchange;
+    };
+    std::vector<Tried> better;
     for (const CandidateResult& rival : rounds[round->second]) {
-      auto& chosen = sel->chosen;
-      if (std::find(chosen.begin(), chosen.end(), name) == chosen.end()) break;
+      const auto& chosen = sel->chosen;
       if (!rival.significant ||
           std::find(chosen.begin(), chosen.end(), rival.name) != chosen.end()) {
         continue;
@@ -373,18 +382,24 @@ std::vector<Exchange> exchange_check(const Evaluator& ev, const std::vector<size
       e.added = rival.name;
       e.cost_before = sum_squares(sel->figures.held);
       e.cost_after = sum_squares(alt.figures.held);
-      if (e.cost_after < e.cost_before) {
-        const size_t n = alt.chosen.size();
-        std::vector<BackwardCheck> checks =
-            backward_check(ev, train, held, windows, rule, o, say, &alt);
-        e.accepted = alt.chosen.size() == n;
-        if (e.accepted) {
-          *sel = std::move(alt);
-          *backward = std::move(checks);
-          entered[rival.name] = round->second;
-        }
-      }
       exchanges.push_back(e);
+      if (e.cost_after < e.cost_before) {
+        better.push_back({std::move(alt), rival.name, exchanges.size() - 1});
+      }
+    }
+    std::sort(better.begin(), better.end(), [&](const Tried& x, const Tried& y) {
+      return exchanges[x.exchange].cost_after < exchanges[y.exchange].cost_after;
+    });
+    for (Tried& t : better) {
+      const size_t n = t.alt.chosen.size();
+      std::vector<BackwardCheck> checks =
+          backward_check(ev, train, held, windows, rule, o, say, &t.alt);
+      if (t.alt.chosen.size() != n) continue;
+      exchanges[t.exchange].accepted = true;
+      *sel = std::move(t.alt);
+      *backward = std::move(checks);
+      entered[t.rival] = round->second;
+      break;
     }
   }
   return exchanges;
