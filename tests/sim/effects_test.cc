@@ -235,6 +235,17 @@ class EffectPhysics : public ::testing::Test {
   }
 };
 
+// The largest gap between the tracer's distance from s and an eq. (8) reference's, per sample.
+double worst_distance_gap(const std::vector<ObjectMotion>& motion, const Eigen::Vector2d& s,
+                          const std::vector<double>& truth) {
+  EXPECT_EQ(motion.size(), truth.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < std::min(motion.size(), truth.size()); ++i) {
+    worst = std::max(worst, std::abs((motion[i].p_W - s).norm() - truth[i]));
+  }
+  return worst;
+}
+
 double angle_between(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));  // from a to b, CCW +
 }
@@ -246,11 +257,7 @@ TEST_F(EffectPhysics, FieldScaleDrivesFartherAsEquationEightWithTheScaledSpeed) 
   const OrientedField field = field_model().at({0.0, 0.0});
   const std::vector<double> truth = testing::eq8_ray_reference(
       field, quiet().scene.tracer.dynamics(), scaled.front().p_W, 1.5, 0.025, 1.3);
-  const Eigen::Vector2d s = field.stagnation_point();
-  double worst = 0.0;
-  for (size_t i = 0; i < truth.size(); ++i) {
-    worst = std::max(worst, std::abs((scaled[i].p_W - s).norm() - truth[i]));
-  }
+  const double worst = worst_distance_gap(scaled, field.stagnation_point(), truth);
   const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
   const double travel_scaled = (scaled.back().p_W - scaled.front().p_W).norm();
   EXPECT_GT(travel_scaled, travel_nominal + 0.1);
@@ -400,11 +407,7 @@ TEST_F(EffectPhysics, AirLiftSlidesAsEquationEightWithTheFrictionItLeaves) {
   const OrientedField field = field_model().at({0.0, 0.0});
   const std::vector<double> truth = testing::eq8_ray_reference(
       field, quiet().scene.tracer.dynamics(), lifted.front().p_W, 1.5, 0.025, 1.0, 0.06);
-  const Eigen::Vector2d s = field.stagnation_point();
-  double worst = 0.0;
-  for (size_t i = 0; i < truth.size(); ++i) {
-    worst = std::max(worst, std::abs((lifted[i].p_W - s).norm() - truth[i]));
-  }
+  const double worst = worst_distance_gap(lifted, field.stagnation_point(), truth);
   const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
   const double travel_lifted = (lifted.back().p_W - lifted.front().p_W).norm();
   std::printf(
