@@ -159,6 +159,8 @@ std::vector<std::vector<double>> fit_grid(const std::string& name) {
       return {lin(0.0, 2.0, 11)};
     case EffectId::kAirLift:
       return {lin(0.0, 0.2, 11)};
+    case EffectId::kLinearisedDrag:
+      return {lin(0.0, 0.9, 19)};
   }
   AIRTWIN_DEMAND(false);
   return {};

@@ -78,6 +78,15 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "upward lift of lift_s2_per_m2 |u_rel|^2 times each object's weight, u_rel = u_air - v",
        {{"lift_s2_per_m2", "s^2/m^2", 0.05, 0.0, true, 0.0, 1.0, 0.0, 0.2}},
        0.01},  // s^2/m^2: 4 % of friction at 2 m/s of relative air
+      {EffectId::kLinearisedDrag,
+       "linearised_drag",
+       "eq. (8)'s linear drag is the tangent of a quadratic drag at a working relative air speed "
+       "and its friction holds the tangent's intercept: slower relative air pushes harder, and an "
+       "object that outruns the air coasts farther",
+       "eq. (8)'s drag c (k u - v) turns into the quadratic it is the tangent of, whose intercept "
+       "takes intercept_share of the friction (eq. (8)'s law only)",
+       {{"intercept_share", "", 0.5, 0.0, true, 0.0, 0.95, 0.0, 0.9}},
+       0.05},  // 5 % of the friction
   }};
   return catalogue;
 }

@@ -31,6 +31,12 @@
 //   air_lift           lift_s2_per_m2 (s^2/m^2): the air flowing past an object lifts the
 //                      fraction k |u - v|^2 of its weight, so its friction is
 //                      |xi3| max(0, 1 - k |u - v|^2) (1/2 rho C_L A_base / (m g) of a body).
+//   linearised_drag    intercept_share: eq. (8)'s linear drag c (k u - v) = c w is the tangent
+//                      at |w| = w0 of the quadratic drag (c / 2 w0) |w| w, and its friction
+//                      holds the tangent's intercept c w0 / 2, this share of |xi3|. Below w0 the
+//                      drag follows the quadratic, and the friction keeps (1 - share) |xi3|: an
+//                      object that outruns the air coasts farther (c = -xi1, k = xi2 / c,
+//                      w0 = 2 share |xi3| / c; off when xi1 >= 0 or xi3 >= 0).
 
 #include <array>
 #include <cstddef>
@@ -51,8 +57,9 @@ enum class EffectId {
   kFieldScale,
   kTransportLag,
   kAirLift,
+  kLinearisedDrag,
 };
-inline constexpr size_t kEffectCount = 10;
+inline constexpr size_t kEffectCount = 11;
 
 /// The longest transport lag (s) the twin and the model carry: a point farther from s than
 /// this times the front's speed feels the orientation of this long ago.

@@ -48,7 +48,17 @@ struct Pull {
         slope(
             kGravity * std::sin(ext.slope_rad) *
             Eigen::Vector2d(std::cos(ext.slope_direction_rad), std::sin(ext.slope_direction_rad))),
-        push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {}
+        push_scale(ext.push_strength_mps2 * kPushNorm * ext.field_scale * ext.field_scale) {
+    // linearised_drag: xi1 v + xi2 u = c (k u - v) = c w, the tangent at |w| = w0 of the
+    // quadratic (c / 2 w0) |w| w minus its intercept c w0 / 2 = share |xi3| along w.
+    const double c = -xi.xi1;
+    if (ext.drag_intercept_share > 0.0 && c > 0.0 && xi.xi3 < 0.0) {
+      intercept = ext.drag_intercept_share * -xi.xi3;
+      tangent_speed = 2.0 * intercept / c;
+      curvature = 0.5 * c / tangent_speed;
+      air_gain = xi.xi2 / c;
+    }
+  }
 
   // The acceleration without friction at (p, v) in `field` (an OrientedField or OrientedRays),
   // and the fraction of friction the air's lift leaves there.
@@ -61,7 +71,18 @@ struct Pull {
     *friction_left = ext.lift_s2_per_m2 > 0.0
                          ? std::max(0.0, 1.0 - ext.lift_s2_per_m2 * (u - v).squaredNorm())
                          : 1.0;
-    Eigen::Vector2d a = xi.xi1 * v + xi.xi2 * u + slope;
+    Eigen::Vector2d a = slope;
+    if (tangent_speed > 0.0) {
+      const Eigen::Vector2d w = air_gain * u - v;
+      const double n = w.norm();
+      if (n >= tangent_speed) {
+        a += (-xi.xi1 - intercept / n) * w;
+      } else {
+        a += curvature * n * w;
+      }
+    } else {
+      a += xi.xi1 * v + xi.xi2 * u;
+    }
     if (ext.quadratic_drag_per_m != 0.0) {
       const Eigen::Vector2d rel = u - v;
       a += ext.quadratic_drag_per_m * rel.norm() * rel;
@@ -82,13 +103,16 @@ struct Pull {
   double cos_d, sin_d;
   Eigen::Vector2d slope;
   double push_scale;
+  // linearised_drag (tangent_speed 0: off): w0 (m/s), the intercept c w0 / 2 (m/s^2) that eq.
+  // (8)'s friction holds, the quadratic's c / 2 w0 (1/m) and k = xi2 / c.
+  double tangent_speed = 0.0, intercept = 0.0, curvature = 0.0, air_gain = 0.0;
 };
 
 // One object's state and its semi-implicit Euler step with Coulomb friction.
 struct Mover {
   Mover(const Pull& pull, const Eigen::Vector2d& p0, const Eigen::Vector2d& v0)
       : pull(pull),
-        kinetic(-pull.xi.xi3),
+        kinetic(std::max(0.0, -pull.xi.xi3 - pull.intercept)),
         static_pull(pull.ext.static_friction_ratio * kinetic),
         p(p0),
         v(v0),

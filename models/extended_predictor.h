@@ -14,7 +14,11 @@
 // object at p feels instead the newest such orientation o(t') whose air has spread to it from
 // its stagnation point s(t'): t - t' >= min(pace |p - s(t')|, kMaxTransportLagS) (each object
 // its own orientation while a re-aim's front spreads). The air lifts the object (air_lift): its
-// friction is |xi3| max(0, 1 - k |u - v|^2), static and kinetic alike. An object at rest starts
+// friction is |xi3| max(0, 1 - k |u - v|^2), static and kinetic alike. With linearised_drag
+// (share s of the friction, c = -xi1 > 0, xi3 < 0) the air's part xi1 v + xi2 u = c w,
+// w = (xi2 / c) u - v, is read as the tangent at |w| = w0 = 2 s |xi3| / c of a quadratic drag: it
+// becomes (c |w| - s |xi3|) w/|w| for |w| >= w0 and (c / 2 w0) |w| w below, and the friction is
+// (1 - s) |xi3|. An object at rest starts
 // when the pull without friction exceeds stiction-ratio times that friction; a moving object stops
 // when friction would reverse it. Under one orientation and with every extension off, the velocity
 // stays radial from s and this is exactly eqs. (8)-(9) (tests/models/extended_predictor_test.cc

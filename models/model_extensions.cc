@@ -32,6 +32,8 @@ std::vector<double> typed_values(const ModelExtensions& x, EffectId id) {
       return {x.transport_pace_s_per_m};
     case EffectId::kAirLift:
       return {x.lift_s2_per_m2};
+    case EffectId::kLinearisedDrag:
+      return {x.drag_intercept_share};
   }
   AIRTWIN_DEMAND(false);
   return {};
@@ -71,6 +73,9 @@ void set_values(ModelExtensions* x, EffectId id, const std::vector<double>& v) {
       return;
     case EffectId::kAirLift:
       x->lift_s2_per_m2 = v[0];
+      return;
+    case EffectId::kLinearisedDrag:
+      x->drag_intercept_share = v[0];
       return;
   }
   AIRTWIN_DEMAND(false);

@@ -30,6 +30,9 @@ struct ModelExtensions {
   double transport_pace_s_per_m = 0.0;
   /// air_lift: friction times max(0, 1 - k |u - v|^2) (s^2/m^2, >= 0; 0: eq. (8)'s constant)
   double lift_s2_per_m2 = 0.0;
+  /// linearised_drag: the share of eq. (8)'s friction |xi3| that is the intercept of its linear
+  /// drag read as the tangent of a quadratic ([0, 0.95]; 0: eq. (8)'s linear drag and friction)
+  double drag_intercept_share = 0.0;
 
   /// Throws InputError naming the effect and parameter when a value is not finite or out of its
   /// physical range (the catalogue's).

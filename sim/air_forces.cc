@@ -71,6 +71,9 @@ void AirForceParameters::validate() const {
         "extra_push_length_m (expected > 0)", extra_push_length_m);
   check(std::isfinite(lift_per_weight_s2pm2) && lift_per_weight_s2pm2 >= 0,
         "lift_per_weight_s2pm2 (expected >= 0)", lift_per_weight_s2pm2);
+  check(
+      std::isfinite(drag_intercept_share) && drag_intercept_share >= 0 && drag_intercept_share < 1,
+      "drag_intercept_share (expected [0, 1))", drag_intercept_share);
 }
 
 AirForces::AirForces(const AirForceParameters& params, const SceneParameters& scene,
@@ -105,6 +108,26 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     const double r = 0.5 * t.diameter_m;
     p.lift = p.physical ? 0.5 * scene.air_density_kgpm3 * t.lift_coefficient * kPi * r * r : 0.0;
     p.drag_coefficient = obj.mass_kg * t.drag_rate_per_s;
+    p.tangent_speed = 0.0;
+    p.intercept_force = 0.0;
+    p.unload_share = 0.0;
+    const double share = params_.drag_intercept_share;
+    if (share > 0.0) {
+      // linearised_drag: eq. (8)'s law read as the tangent of a quadratic drag.
+      if (p.physical) {
+        throw InputError(
+            "air-force parameters: drag_intercept_share (linearised_drag) bends "
+            "eq. (8)'s linear drag; object '" +
+            obj.id + "' (" + object_type_name(obj.type) +
+            ") has the physical drag law, quadratic already");
+      }
+      const double intercept = share * t.kinetic_friction * std::abs(scene.gravity_W().z());
+      if (t.drag_rate_per_s > 0.0 && intercept > 0.0) {
+        p.tangent_speed = 2.0 * intercept / t.drag_rate_per_s;
+        p.intercept_force = obj.mass_kg * intercept;
+        p.unload_share = share;
+      }
+    }
     p.air_gain = t.air_gain;
     p.pressure_volume = t.pressure_volume_m3;
     p.extra_static = (t.static_friction_ratio - 1.0) * t.kinetic_friction * obj.mass_kg;
@@ -240,9 +263,11 @@ void AirForces::apply_reference(const mjModel* m, mjData* d) noexcept { run(m, d
 
 void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
   if (!fault_.empty()) return;
-  // No air and a level floor: nothing to do (the holding force opposes air and slope only).
+  // No air, a level floor and the contacts' own friction: nothing to do (the holding force
+  // opposes air and slope only).
   const bool air = (field_ != nullptr || cfd_ != nullptr) && jet_level_ > 0.0;
-  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0) {
+  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0 &&
+      params_.drag_intercept_share == 0.0) {
     // Nothing pulls: every object will stick once the air is back (a sliding one stops within
     // a step or two of kinetic friction anyway, and is released again by its speed).
     for (PerObject& po : per_object_) po.pull = po.speed = 0.0;
@@ -453,6 +478,15 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
         f = w * (po.quadratic * u_rel.norm() + po.viscous) * u_rel;
         lift_body_[col] = w * po.lift * u_rel.squaredNorm();
         lift_total += lift_body_[col];
+      } else if (po.tangent_speed > 0.0) {
+        // linearised_drag: c (k u - v) = c w is the tangent at |w| = w0 of the quadratic
+        // (c / 2 w0) |w| w, less its intercept c w0 / 2 along w (taken from the friction below:
+        // the contact carries 1 - share of the weight, so its friction is (1 - share) mu_k m g).
+        const Eigen::Vector2d w_rel = po.air_gain * u - v;
+        const double n_rel = w_rel.norm();
+        f = n_rel >= po.tangent_speed
+                ? w * (po.drag_coefficient - po.intercept_force / n_rel) * w_rel
+                : w * (0.5 * po.drag_coefficient / po.tangent_speed) * n_rel * w_rel;
       } else {
         // eq. (8) as physics: F = c (k u - v).
         f = w * po.drag_coefficient * (po.air_gain * u - v);
@@ -484,6 +518,14 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
       }
       f_body_W_.col(col) = f;
       total += f;
+    }
+
+    // linearised_drag: the friction that eq. (8)'s xi3 held for the drag's intercept is not the
+    // contact's, jet or no jet.
+    for (Eigen::Index k = 0; k < n && po.unload_share > 0.0; ++k) {
+      const double unload = obj.area_share[k] * po.unload_share * obj.mass_kg * g_normal;
+      lift_body_[first + k] += unload;
+      lift_total += unload;
     }
 
     // Static friction: a sticking object is held against the whole pull (the air and the

@@ -58,7 +58,11 @@
 // air velocity by a fixed angle (counter-clockwise positive) at the same speed; quadratic_drag
 // adds a w_b m_o C_q |u_rel| u_rel with u_rel = u(p) - v; pressure_gradient adds a radial push of
 // peak acceleration A at r = l / sqrt(2): a(r) = J^2 f^2 A sqrt(2e) (r / l) exp(-(r / l)^2);
-// air_lift adds an upward w_b k m_o g |u_rel|^2 that unloads the contact as the physical lift does.
+// air_lift adds an upward w_b k m_o g |u_rel|^2 that unloads the contact as the physical lift does;
+// linearised_drag (eq. (8)'s law only) bends the drag c w, w = k u - v, into the quadratic it is
+// the tangent of at |w| = w0 and takes the tangent's intercept c w0 / 2 from the friction by
+// unloading the contact by that share of the weight (a lower mu_k on the contact would need the
+// model rebuilt; the unloaded contact's friction is the same).
 // Static friction holds against the in-plane part of gravity too (a sloped floor).
 //
 // Speed. The generalised force of a body is written straight into qfrc_passive: for a one-body
@@ -122,6 +126,12 @@ struct AirForceParameters {
   /// drag law and on top of the physical law's own: its contact, so its friction, falls by the
   /// fraction k |u_rel|^2.
   double lift_per_weight_s2pm2 = 0.0;
+  /// share s in [0, 1) (0: off): under eq. (8)'s law each object's drag c (k u - v) = c w becomes
+  /// the quadratic (c / 2 w0) |w| w that it is the tangent of at |w| = w0 = 2 s mu_k g / c, less
+  /// the tangent's intercept s mu_k g along w for |w| >= w0, and its contact carries 1 - s of its
+  /// weight, so its friction is (1 - s) mu_k m g (the linearised_drag effect). InputError for an
+  /// object under the physical law.
+  double drag_intercept_share = 0.0;
 
   /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
   static AirForceParameters none();
@@ -194,6 +204,9 @@ class AirForces {
     double lift;              // 1/2 rho C_L A_base (kg/m): lift = lift |u - v|^2, upward
     double drag_coefficient;  // c_o (kg/s)
     double air_gain;          // k_o
+    double tangent_speed;     // w0 (m/s) of linearised_drag, 0: off
+    double intercept_force;   // m_o c_o w0 / 2 (N): the tangent's intercept as a force
+    double unload_share;      // the share of the weight the contact is unloaded by
     double pressure_volume;   // V_o (m^3)
     double extra_static;      // (mu_s - mu_k) m_o (kg)
     double kinetic;           // mu_k m_o (kg), times g gives the kinetic friction

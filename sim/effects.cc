@@ -168,6 +168,9 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
     case EffectId::kAirLift:
       params->air.lift_per_weight_s2pm2 = v[0];
       return;
+    case EffectId::kLinearisedDrag:
+      params->air.drag_intercept_share = v[0];
+      return;
   }
   AIRTWIN_DEMAND(false);
 }

@@ -24,6 +24,9 @@
 //   air_lift           air.lift_per_weight_s2pm2: an upward lift k m g |u_rel|^2 on each
 //                      object, which unloads its contact (1/2 rho C_L A_base / (m g) of a tracer
 //                      with C_L 0.2 is ~0.054 s^2/m^2).
+//   linearised_drag    air.drag_intercept_share: eq. (8)'s drag read as the tangent of a
+//                      quadratic drag whose intercept is this share of the friction, taken from
+//                      it (eq. (8)'s law only: the physical law's drag is quadratic).
 
 #include <string>
 #include <utility>

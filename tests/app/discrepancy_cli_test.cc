@@ -287,6 +287,14 @@ TEST(DiscrepancyCli, FindsAirLift) {
   // outruns the object. Fitted within 10 % over seeds 30-37 (docs/discrepancy.md).
   expect_found({"air_lift", {{"lift_s2_per_m2", 0.035, 0.06, false}}, {0.2}}, 30);
 }
+TEST(DiscrepancyCli, FindsLinearisedDrag) {
+  // Shares 0.6-0.75 of the friction: tangents at 3.5-4.4 m/s, beyond the relative speed at which
+  // the twin's drag balances its friction (|xi3| / c = 2.95 m/s, a share of 1/2). Below about
+  // 0.55 the bent law parts from eq. (8) only where an object outruns the air, which Appendix D
+  // rarely samples (0.5 at seed 38 leaves the held-out end MAPE at 4.7 %: nothing to find).
+  // Fitted within 2 % over seeds 38-45 (docs/discrepancy.md).
+  expect_found({"linearised_drag", {{"intercept_share", 0.6, 0.75, false}}, {0.2}}, 38);
+}
 
 // Two or three effects hidden at once must be found jointly, each parameter within 25 % (the
 // issue): the forward selection adds them one by one, each refitted on top of the ones before,

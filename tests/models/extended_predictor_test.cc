@@ -74,20 +74,31 @@ TEST(ExtendedPredictor, NominalIsEquations8And9) {
 }
 
 // Extra terms along the ray, checked against a 1-D RK4 integration of
-//   dv/dt = xi1 v + xi2 f u(r) + xi3 max(0, 1 - k (f u - v)^2) + C (f u - v)|f u - v|
-//           + f^2 A sqrt(2e) (r/l) exp(-(r/l)^2).
+//   dv/dt = D(f u(r), v) + xi3' max(0, 1 - k (f u - v)^2) + C (f u - v)|f u - v|
+//           + f^2 A sqrt(2e) (r/l) exp(-(r/l)^2)
+// from r0 at v0 >= 0, where D = xi1 v + xi2 u and xi3' = xi3 (eq. (8)) or, with the share s of the
+// friction that is a linearised drag's intercept, D = (c |w| - s |xi3|) sign(w) for |w| >= w0 and
+// (c / 2 w0) |w| w below, w = (xi2 / c) u - v, c = -xi1, w0 = 2 s |xi3| / c, and xi3' = (1 - s)
+// xi3.
 double ray_reference(const ObjectDynamics& xi, double f, double c, double A, double l, double r0,
                      const Eigen::Vector2d& s, const Eigen::Vector2d& e, const OrientedField& of,
-                     double t_end, double k = 0.0) {
+                     double t_end, double k = 0.0, double share = 0.0, double v0 = 0.0) {
+  const double c_lin = -xi.xi1, intercept = share * -xi.xi3, w0 = 2.0 * intercept / c_lin;
+  auto drag = [&](double u, double v) {
+    if (w0 == 0.0) return xi.xi1 * v + xi.xi2 * u;
+    const double w = xi.xi2 / c_lin * u - v;
+    const double n = std::abs(w);
+    return n >= w0 ? std::copysign(c_lin * n - intercept, w) : 0.5 * c_lin / w0 * n * w;
+  };
   auto acc = [&](double r, double v) {
     const double u = f * of.speed(s + r * e);
     const double x = r / l;
-    const double friction = xi.xi3 * std::max(0.0, 1.0 - k * (u - v) * (u - v));
-    double a = xi.xi1 * v + xi.xi2 * u + friction + c * (u - v) * std::abs(u - v);
+    const double friction = (xi.xi3 + intercept) * std::max(0.0, 1.0 - k * (u - v) * (u - v));
+    double a = drag(u, v) + friction + c * (u - v) * std::abs(u - v);
     a += f * f * A * std::sqrt(2.0 * std::exp(1.0)) * x * std::exp(-x * x);
     return a;
   };
-  double r = r0, v = 0.0;
+  double r = r0, v = v0;
   const double h = 1e-5;
   for (double t = 0.0; t < t_end - 1e-12; t += h) {
     const double k1r = v, k1v = acc(r, v);
@@ -160,6 +171,52 @@ TEST(ExtendedPredictor, AirLiftUnloadsTheFrictionAlongARay) {
   strong.lift_s2_per_m2 = 0.25 / (u * u);  // leaves 75 %: starts
   EXPECT_EQ(predict(xi, weak, settled(kO), held, kAtRest, {1.0})[0], held);
   EXPECT_GT((predict(xi, strong, settled(kO), held, kAtRest, {1.0})[0] - held).norm(), 0.005);
+}
+
+// The drag read as the tangent of a quadratic at w0: along the ray from rest, alone and beside
+// the lift; and an object launched at 1 m/s where the air is weak.
+TEST(ExtendedPredictor, LinearisedDragBendsTheDragAndLightensTheFrictionAlongARay) {
+  const OrientedField of = field().at(kO);
+  const Eigen::Vector2d s = of.stagnation_point(), e(0.6, 0.8);
+  const double t_end = 1.2;  // past where the object's relative air falls below w0
+  const double r0 = 0.25;
+  const Eigen::Vector2d p0 = s + r0 * e;
+  const double plain =
+      (predict(kTracerDynamics, {}, settled(kO), p0, kAtRest, {t_end})[0] - s).norm();
+  // Moving with the air, the relative speed stays near |xi3| / c = 3.2 m/s (where the drag
+  // balances the friction): only a tangent beyond it, a share above 1/2, bends the slide.
+  for (const auto& [share, k] : std::vector<std::pair<double, double>>{{0.55, 0.0}, {0.62, 0.03}}) {
+    ModelExtensions ext;
+    ext.drag_intercept_share = share;
+    ext.lift_s2_per_m2 = k;
+    const double ours =
+        (predict(kTracerDynamics, ext, settled(kO), p0, kAtRest, {t_end})[0] - s).norm();
+    const double r_ref =
+        ray_reference(kTracerDynamics, 1.0, 0.0, 0.0, 0.15, r0, s, e, of, t_end, k, share);
+    EXPECT_NEAR(ours, r_ref, 4e-3) << "share " << share << " k " << k;
+    EXPECT_GT(ours, plain + 0.02) << "share " << share;
+  }
+
+  // The coast: 2.5 m out the drive is about a third of the friction. Launched outward at 1 m/s
+  // there, the object is braked at |xi3| + c v - drive by eq. (8) and, with |w| < w0, at
+  // (1 - s) |xi3| + (c / 2 w0) |w| w - drive: it slides farther.
+  const double r_far = 2.5;
+  ASSERT_LT(kTracerDynamics.xi2 * of.speed(s + r_far * e), 0.4 * -kTracerDynamics.xi3);
+  const Eigen::Vector2d launched = s + r_far * e;
+  double coast[2];
+  for (int bent = 0; bent < 2; ++bent) {
+    ModelExtensions ext;
+    ext.drag_intercept_share = bent ? 0.5 : 0.0;
+    coast[bent] =
+        (predict(kTracerDynamics, ext, settled(kO), launched, 1.0 * e, {1.0})[0] - s).norm() -
+        r_far;
+    const double r_ref = ray_reference(kTracerDynamics, 1.0, 0.0, 0.0, 0.15, r_far, s, e, of, 1.0,
+                                       0.0, ext.drag_intercept_share, 1.0);
+    EXPECT_NEAR(coast[bent], r_ref - r_far, 2e-3) << "share " << ext.drag_intercept_share;
+  }
+  std::printf("coast from 1 m/s at 2.5 m: eq. (8) %.1f cm, bent at share 0.5 %.1f cm\n",
+              coast[0] * 100, coast[1] * 100);
+  EXPECT_GT(coast[1], coast[0] + 0.02);
 }
 
 TEST(ExtendedPredictor, OffsetAndDelayAreShiftsOfTheCommands) {

@@ -256,7 +256,7 @@ TEST_F(EffectPhysics, FieldScaleDrivesFartherAsEquationEightWithTheScaledSpeed) 
   const std::vector<ObjectMotion> scaled = run(with(quiet(), "field_scale:factor=1.3"), start, 1.5);
   const OrientedField field = field_model().at({0.0, 0.0});
   const std::vector<double> truth = testing::eq8_ray_reference(
-      field, quiet().scene.tracer.dynamics(), scaled.front().p_W, 1.5, 0.025, 1.3);
+      field, quiet().scene.tracer.dynamics(), scaled.front().p_W, 1.5, 0.025, {.air_scale = 1.3});
   const double worst = worst_distance_gap(scaled, field.stagnation_point(), truth);
   const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
   const double travel_scaled = (scaled.back().p_W - scaled.front().p_W).norm();
@@ -406,7 +406,7 @@ TEST_F(EffectPhysics, AirLiftSlidesAsEquationEightWithTheFrictionItLeaves) {
       run(with(quiet(), "air_lift:lift_s2_per_m2=0.06"), start, 1.5);
   const OrientedField field = field_model().at({0.0, 0.0});
   const std::vector<double> truth = testing::eq8_ray_reference(
-      field, quiet().scene.tracer.dynamics(), lifted.front().p_W, 1.5, 0.025, 1.0, 0.06);
+      field, quiet().scene.tracer.dynamics(), lifted.front().p_W, 1.5, 0.025, {.lift_s2pm2 = 0.06});
   const double worst = worst_distance_gap(lifted, field.stagnation_point(), truth);
   const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
   const double travel_lifted = (lifted.back().p_W - lifted.front().p_W).norm();
@@ -416,6 +416,44 @@ TEST_F(EffectPhysics, AirLiftSlidesAsEquationEightWithTheFrictionItLeaves) {
       travel_lifted * 100, travel_nominal * 100, (truth.back() - truth.front()) * 100, worst * 1e3);
   EXPECT_GT(travel_lifted, travel_nominal + 0.05);
   EXPECT_LT(worst, 0.04 * (truth.back() - truth.front()) + 0.002);
+}
+
+TEST_F(EffectPhysics, LinearisedDragSlidesAsTheQuadraticItIsTheTangentOf) {
+  // With 60 % of the friction the intercept of a tangent at w0 = 2 0.6 |xi3| / c = 3.5 m/s: below
+  // |k u - v| = w0 the drag follows (c / 2 w0) |w| w, above it c |w| - 0.6 |xi3|, and the contact
+  // keeps 40 % of the friction. The slide follows eq. (8) so bent, within the nominal twin's
+  // agreement with eq. (8), and reaches farther than without it (the quadratic lies above its
+  // tangent everywhere but at w0).
+  const Eigen::Vector2d start(0.35, 0.1);
+  const std::vector<ObjectMotion> nominal = run(quiet(), start, 1.5);
+  const std::vector<ObjectMotion> bent =
+      run(with(quiet(), "linearised_drag:intercept_share=0.6"), start, 1.5);
+  const OrientedField field = field_model().at({0.0, 0.0});
+  const std::vector<double> truth =
+      testing::eq8_ray_reference(field, quiet().scene.tracer.dynamics(), bent.front().p_W, 1.5,
+                                 0.025, {.intercept_share = 0.6});
+  const double worst = worst_distance_gap(bent, field.stagnation_point(), truth);
+  const double travel_nominal = (nominal.back().p_W - nominal.front().p_W).norm();
+  const double travel_bent = (bent.back().p_W - bent.front().p_W).norm();
+  std::printf(
+      "linearised_drag 0.6: travel %.1f cm (without %.1f), eq. (8) bent %.1f cm, worst %.1f mm\n",
+      travel_bent * 100, travel_nominal * 100, (truth.back() - truth.front()) * 100, worst * 1e3);
+  EXPECT_GT(travel_bent, travel_nominal + 0.02);
+  EXPECT_LT(worst, 0.04 * (truth.back() - truth.front()) + 0.002);
+}
+
+TEST_F(EffectPhysics, LinearisedDragRefusesThePhysicalLaw) {
+  // The physical law's drag is quadratic already: one error naming the law and the object.
+  TwinParameters physical = with(quiet(), "linearised_drag:intercept_share=0.5");
+  physical.scene.tracer.use_physical_drag();
+  try {
+    run(physical, {0.35, 0.1}, 0.1);
+    ADD_FAILURE() << "the physical law was bent";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has the physical drag law"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("object '"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(EffectPhysics, StictionHoldsATracerThatSlidesNominally) {

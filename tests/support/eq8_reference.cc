@@ -7,16 +7,24 @@ namespace airtwin::testing {
 
 std::vector<double> eq8_ray_reference(const OrientedField& field, const ObjectDynamics& xi,
                                       const Eigen::Vector2d& p0_W, double duration_s,
-                                      double sample_dt_s, double air_scale, double lift_s2pm2) {
+                                      double sample_dt_s, const Eq8RayTerms& terms) {
   const Eigen::Vector2d s = field.stagnation_point();
   const Eigen::Vector2d u = (p0_W - s).normalized();
-  auto air = [&](double r) { return air_scale * field.speed(s + r * u); };
+  auto air = [&](double r) { return terms.air_scale * field.speed(s + r * u); };
+  const double c = -xi.xi1, intercept = terms.intercept_share * -xi.xi3;
+  const double w0 = 2.0 * intercept / c;
   auto friction = [&](double r, double v) {
     const double rel = air(r) - v;
-    return xi.xi3 * std::max(0.0, 1.0 - lift_s2pm2 * rel * rel);
+    return -std::max(0.0, -xi.xi3 - intercept) * std::max(0.0, 1.0 - terms.lift_s2pm2 * rel * rel);
   };
-  auto accel = [&](double r, double v) { return xi.xi1 * v + xi.xi2 * air(r) + friction(r, v); };
-  auto drive = [&](double r) { return xi.xi2 * air(r) + friction(r, 0.0); };
+  auto drag = [&](double r, double v) {
+    if (w0 == 0.0) return xi.xi1 * v + xi.xi2 * air(r);
+    const double w = xi.xi2 / c * air(r) - v;
+    const double n = std::abs(w);
+    return n >= w0 ? std::copysign(c * n - intercept, w) : 0.5 * c / w0 * n * w;
+  };
+  auto accel = [&](double r, double v) { return drag(r, v) + friction(r, v); };
+  auto drive = [&](double r) { return accel(r, 0.0); };
   const double h = 1e-4;
   const int per_sample = static_cast<int>(std::lround(sample_dt_s / h));
   double r = (p0_W - s).norm(), v = 0.0;
