@@ -73,11 +73,11 @@ decltype(auto) with_flags(std::initializer_list<FlagOf> flags, F&& f) {
 
 /// The flags of collect and calibrate-dynamics that set CollectionOptions' fields.
 inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
-    {"collection.object", "--object"},         {"collection.tilts", "--tilts"},
-    {"collection.per_tilt", "--per-tilt"},     {"collection.wait_s", "--wait"},
-    {"collection.lead_in_s", "--lead-in"},     {"collection.record_s", "--record"},
-    {"collection.threads", "--threads"},       {"collection.protocol", "--protocol"},
-    {"calibration.iterations", "--iterations"}};
+    {"collection.object", "--object"},           {"collection.tilts", "--tilts"},
+    {"collection.per_tilt", "--per-tilt"},       {"collection.wait_s", "--wait"},
+    {"collection.lead_in_s", "--lead-in"},       {"collection.record_s", "--record"},
+    {"collection.threads", "--threads"},         {"collection.protocol", "--protocol"},
+    {"collection.release_s", "--release-after"}, {"calibration.iterations", "--iterations"}};
 
 /// The twin's air: the jet's CFD or the controller's analytical field (the default until the
 /// controller's model is fitted to the CFD, docs/twin.md).

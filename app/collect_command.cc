@@ -162,6 +162,11 @@ void add_collect_command(CLI::App& app) {
          "never moves, no lead-in) or mixed (trials alternate, even re-aimed, odd placed):\n"
          "starts from rest where a late response of the nozzle plays no part")
       ->capture_default_str();
+  sub->add_option("--release-after", o.release_s,
+                  "Seconds into the record at which the nozzle turns back to idle, so that the\n"
+                  "object coasts from its speed in still air (recorded with the idle command);\n"
+                  "0: never, as Appendix D")
+      ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")
       ->capture_default_str();

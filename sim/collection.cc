@@ -79,6 +79,11 @@ void CollectionOptions::validate() const {
   if (!(record_s > 0 && record_s <= 600)) {
     throw FieldError("collection.record_s", "expected seconds in (0, 600]");
   }
+  if (!(release_s >= 0 && release_s < record_s)) {
+    throw FieldError("collection.release_s", "expected 0 (never) or seconds below the record's " +
+                                                 format_number(record_s) + ", got " +
+                                                 format_number(release_s));
+  }
   if (!(frame_rate_hz >= 1 && frame_rate_hz <= 1000)) {
     throw FieldError("collection.frame_rate_hz", "expected a rate in [1, 1000] Hz");
   }
@@ -161,17 +166,28 @@ void run_collection_trial(const CollectionTrial& trial, const CollectionOptions&
   Twin twin(spec, params, field, trial.twin_seed);
   const int frames = static_cast<int>(std::floor(o.record_s * o.frame_rate_hz + 1e-9));
 
+  // The record from t0 on: the trial's command, and with a release the idle from release_s on.
+  const auto record_from = [&](double t0, int first_frame) {
+    bool released = false;
+    for (int k = 0; k <= frames; ++k) {
+      const double t = k / o.frame_rate_hz;
+      if (o.release_s > 0.0 && !released && t >= o.release_s) {
+        twin.advance_to(t0 + o.release_s);
+        twin.command_nozzle(o.idle);
+        released = true;
+      }
+      twin.advance_to(t0 + t);
+      record(twin, first_frame + k, t, released ? o.idle : trial.target);
+    }
+  };
+
   if (trial.placed) {
     // Settled with the jet off under the still nozzle, then released into its steady air.
     twin.advance(o.wait_s);
     const double t0 = twin.time();
     twin.set_jet(true);
     twin.settle_jet();
-    for (int k = 0; k <= frames; ++k) {
-      const double t = k / o.frame_rate_hz;
-      twin.advance_to(t0 + t);
-      record(twin, k, t, trial.target);
-    }
+    record_from(t0, 0);
     return;
   }
 
@@ -189,11 +205,7 @@ void run_collection_trial(const CollectionTrial& trial, const CollectionOptions&
   }
   twin.advance_to(t0);
   twin.command_nozzle(trial.target);  // (iii) re-aim and record
-  for (int k = 0; k <= frames; ++k) {
-    const double t = k / o.frame_rate_hz;
-    twin.advance_to(t0 + t);
-    record(twin, frame++, t, trial.target);
-  }
+  record_from(t0, frame);
 }
 
 Trajectory run_collection_trial(const CollectionTrial& trial, const CollectionOptions& o,

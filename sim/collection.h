@@ -19,6 +19,13 @@
 // for telling stiction from a late air; at Appendix D's distances they do not separate it from
 // a weaker air by themselves, docs/discrepancy.md). `mixed` alternates the two, trial by trial.
 //
+// Either protocol can release the object from the air part-way through the record (release_s):
+// the nozzle turns back to idle, whose air is too weak to move a placed object, and the object
+// coasts on its friction and the still air's drag. Appendix D's objects start from rest in the
+// jet and slow as it weakens; a coast from speed in still air is what tells the friction of an
+// object that has outrun the air (the linearised_drag effect) from eq. (8)'s xi3, which the drag
+// inside the jet shares.
+//
 // Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
 // the trial's index only, so a trial's data do not depend on the thread count or on other trials.
 
@@ -66,6 +73,10 @@ struct CollectionOptions {
   /// How the trials start; a lead-in applies to the re-aimed trials only (a placed trial is
   /// recorded from its release).
   CollectionProtocol protocol = CollectionProtocol::kReaim;
+  /// Seconds after the re-aim (or the release into steady air) at which the nozzle turns back to
+  /// idle and the object coasts (recorded with the idle command from then on); 0: never, as
+  /// Appendix D. Below record_s.
+  double release_s = 0.0;
   double frame_rate_hz = 40.0;
   TwinParameters twin;  ///< the twin's physics (effects applied here)
   /// Active: each trial's object gets its own physics, drawn from the trial's twin seed

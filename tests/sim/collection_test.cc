@@ -87,6 +87,15 @@ TEST(Collection, LeadInRecordsTheIdleCommandBeforeTheReAimAndChangesNothingAfter
   EXPECT_THROW(o.validate(), FieldError);
 }
 
+// The first placed trial of `plan` whose object starts in air faster than 2.5 m/s; null if none.
+const CollectionTrial* placed_in_strong_air(const std::vector<CollectionTrial>& plan,
+                                            const AirFieldModel& field) {
+  for (const CollectionTrial& t : plan) {
+    if (t.placed && field.velocity(t.target, t.start_W).norm() > 2.5) return &t;
+  }
+  return nullptr;
+}
+
 // The placed protocol: the object is released at rest into the trial's steady air, under a
 // nozzle that never moves. Whether it starts is then up to its static friction against that air:
 // eq. (8)'s start is 4.26 |u| > 8.53 (|u| > 2.0 m/s) with static friction equal to kinetic, and
@@ -97,13 +106,8 @@ TEST(Collection, APlacedObjectStartsFromRestInSteadyAirUnlessItsStaticFrictionHo
   o.protocol = CollectionProtocol::kMixed;
   const AirFieldModel field = AirFieldModel::with_constructed_table();
   const std::vector<CollectionTrial> plan = plan_collection(o);
-  const CollectionTrial* strong = nullptr;
-  for (const CollectionTrial& t : plan) {
-    EXPECT_EQ(t.placed, t.index % 2 == 1);
-    if (t.placed && strong == nullptr && field.velocity(t.target, t.start_W).norm() > 2.5) {
-      strong = &t;
-    }
-  }
+  for (const CollectionTrial& t : plan) EXPECT_EQ(t.placed, t.index % 2 == 1);
+  const CollectionTrial* strong = placed_in_strong_air(plan, field);
   ASSERT_NE(strong, nullptr) << "no placed trial starts in air above 2.5 m/s";
   std::printf("placed trial %d: %.2f m/s of steady air at the start\n", strong->index,
               field.velocity(strong->target, strong->start_W).norm());
@@ -143,6 +147,51 @@ TEST(Collection, APlacedObjectStartsFromRestInSteadyAirUnlessItsStaticFrictionHo
   } catch (const FieldError& e) {
     EXPECT_EQ(e.field(), "collection.protocol");
     EXPECT_NE(std::string(e.what()).find("reaim, placed, mixed"), std::string::npos);
+  }
+}
+
+// A release part-way: the nozzle turns back to idle at release_s, recorded with the idle command
+// from then on; before it the trial is the unreleased one to the bit, after it the object leaves
+// the jet and coasts to rest short of where the jet would have taken it.
+TEST(Collection, AReleaseTurnsTheNozzleAwayAndTheObjectCoastsToRest) {
+  CollectionOptions o = quick_options();
+  o.per_tilt = 6;
+  o.protocol = CollectionProtocol::kPlaced;
+  const AirFieldModel field = AirFieldModel::with_constructed_table();
+  const std::vector<CollectionTrial> plan = plan_collection(o);
+  const CollectionTrial* strong = placed_in_strong_air(plan, field);
+  ASSERT_NE(strong, nullptr) << "no trial starts in air above 2.5 m/s";
+  const Trajectory blown = run_collection_trial(*strong, o, field);
+  o.release_s = 0.2;
+  const Trajectory released = run_collection_trial(*strong, o, field);
+  ASSERT_EQ(released.samples.size(), blown.samples.size());
+  for (size_t k = 0; k < released.samples.size(); ++k) {
+    const TrajectorySample& a = released.samples[k];
+    const NozzleOrientation& command = a.t_s < o.release_s ? strong->target : o.idle;
+    EXPECT_EQ(a.nozzle.pan_rad, command.pan_rad) << k;
+    EXPECT_EQ(a.nozzle.tilt_rad, command.tilt_rad) << k;
+    if (a.t_s <= o.release_s) {
+      EXPECT_EQ(a.p_W, blown.samples[k].p_W) << k;
+    }
+  }
+  const Eigen::Vector2d start = released.samples.front().p_W;
+  const double travel_released = (released.samples.back().p_W - start).norm();
+  const double travel_blown = (blown.samples.back().p_W - start).norm();
+  const size_t n = released.samples.size();
+  const double last_speed =
+      (released.samples[n - 1].p_W - released.samples[n - 2].p_W).norm() * 40.0;
+  std::printf("released at 0.2 s: travel %.1f cm (blown throughout %.1f cm), end speed %.3f m/s\n",
+              travel_released * 100, travel_blown * 100, last_speed);
+  EXPECT_GT(travel_released, 0.01);
+  EXPECT_LT(travel_released, travel_blown - 0.02);
+  EXPECT_LT(last_speed, 0.005);
+
+  o.release_s = o.record_s;
+  try {
+    o.validate();
+    FAIL() << "no error";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.field(), "collection.release_s");
   }
 }
 
