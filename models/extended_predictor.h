@@ -18,11 +18,10 @@
 // (share s of the friction, c = -xi1 > 0, xi3 < 0) the air's part xi1 v + xi2 u = c w,
 // w = (xi2 / c) u - v, is read as the tangent at |w| = w0 = 2 s |xi3| / c of a quadratic drag: it
 // becomes (c |w| - s |xi3|) w/|w| for |w| >= w0 and (c / 2 w0) |w| w below, and the friction is
-// (1 - s) |xi3|. An object at rest starts
-// when the pull without friction exceeds stiction-ratio times that friction; a moving object stops
-// when friction would reverse it. Under one orientation and with every extension off, the velocity
-// stays radial from s and this is exactly eqs. (8)-(9) (tests/models/extended_predictor_test.cc
-// checks it against the CVODE reference).
+// (1 - s) |xi3|. An object at rest starts when the pull without friction exceeds stiction-ratio
+// times that friction; a moving object stops when friction would reverse it. Under one
+// orientation and with every extension off, the velocity stays radial from s and this is exactly
+// eqs. (8)-(9) (tests/models/extended_predictor_test.cc checks it against the CVODE reference).
 //
 // Integration: semi-implicit Euler with Coulomb friction at a fixed step (1 ms by default; the
 // position error against eqs. (8)-(9) is ~1 mm over 2 s), deterministic, no allocation per step.
