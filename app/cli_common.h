@@ -77,7 +77,8 @@ inline constexpr std::initializer_list<FlagOf> kCollectionFlags = {
     {"collection.per_tilt", "--per-tilt"},       {"collection.wait_s", "--wait"},
     {"collection.lead_in_s", "--lead-in"},       {"collection.record_s", "--record"},
     {"collection.threads", "--threads"},         {"collection.protocol", "--protocol"},
-    {"collection.release_s", "--release-after"}, {"calibration.iterations", "--iterations"}};
+    {"collection.release_s", "--release-after"}, {"collection.launch_speed", "--launch-speed"},
+    {"calibration.iterations", "--iterations"}};
 
 /// The twin's air: the jet's CFD or the controller's analytical field (the default until the
 /// controller's model is fitted to the CFD, docs/twin.md).

@@ -39,6 +39,7 @@ struct CollectArgs {
   std::string noise = "none";
   std::string truth_out;
   std::string protocol = "reaim";
+  std::string launch_speed = "0.3,2";
   std::string vary_physics = "none";
 };
 
@@ -93,6 +94,12 @@ void run_collect(CollectArgs a) {
   }
   parse_noise(a.noise);
   with_flags(kCollectionFlags, [&] { o.protocol = parse_collection_protocol(a.protocol); });
+  if (a.launch_speed != CollectArgs().launch_speed && o.protocol != CollectionProtocol::kLaunched) {
+    throw UsageError("--launch-speed needs --protocol launched");
+  }
+  const Eigen::Vector2d launch = parse_xy(a.launch_speed, "--launch-speed");
+  o.min_launch_speed_mps = launch.x();
+  o.max_launch_speed_mps = launch.y();
   o.physics_variation = parse_vary_physics(a.vary_physics);
   apply_air_flags(a.air, &o.twin);
   const std::vector<Effect> effects = apply_effect_flags(a.effects, &o.twin);
@@ -159,13 +166,18 @@ void add_collect_command(CLI::App& app) {
          "--protocol", args->protocol,
          "How each trial starts: reaim (Appendix D: the nozzle turns from idle at t = 0),\n"
          "placed (the object is released at t = 0 into the trial's steady air: the nozzle\n"
-         "never moves, no lead-in) or mixed (trials alternate, even re-aimed, odd placed):\n"
-         "starts from rest where a late response of the nozzle plays no part")
+         "never moves, no lead-in), mixed (trials alternate, even re-aimed, odd placed):\n"
+         "starts from rest where a late response of the nozzle plays no part, or launched\n"
+         "(the object slides off at t = 0 under the idle nozzle and coasts to rest, as from a\n"
+         "chute: its friction beyond the air, with no air term at work)")
       ->capture_default_str();
   sub->add_option("--release-after", o.release_s,
                   "Seconds into the record at which the nozzle turns back to idle, so that the\n"
                   "object coasts from its speed in still air (recorded with the idle command);\n"
                   "0: never, as Appendix D")
+      ->capture_default_str();
+  sub->add_option("--launch-speed", args->launch_speed,
+                  "With --protocol launched: MIN,MAX (m/s), the launch speeds' uniform range")
       ->capture_default_str();
   o.threads = 0;  // every core by default: the result does not depend on the thread count
   sub->add_option("--threads", o.threads, "Twins in parallel (0: one per core)")

@@ -26,6 +26,12 @@
 // object that has outrun the air (the linearised_drag effect) from eq. (8)'s xi3, which the drag
 // inside the jet shares.
 //
+// A third protocol launches the object across the floor with the nozzle idle throughout: at t = 0
+// it slides off at a drawn speed (0.3-2 m/s by default) toward the workspace, as from a chute or
+// a flick on a rig, and coasts to rest in the idle air. No air term acts on it, so its slowing is
+// its friction and the still air's drag alone, apart from the air inside the jet that eq. (8)'s
+// xi3 also carries; a release (above) tells the same only where the jet's air has decayed.
+//
 // Determinism: the plan (orientations, starts) and each trial's twin seed come from the seed and
 // the trial's index only, so a trial's data do not depend on the thread count or on other trials.
 
@@ -44,12 +50,13 @@ namespace airtwin {
 
 /// How each trial starts (the catalogue below names them).
 enum class CollectionProtocol {
-  kReaim,   ///< Appendix D: the nozzle turns from idle to the trial's orientation at t = 0
-  kPlaced,  ///< the object is released at t = 0 in the trial's steady air
-  kMixed,   ///< even trial indices re-aim, odd ones are placed
+  kReaim,     ///< Appendix D: the nozzle turns from idle to the trial's orientation at t = 0
+  kPlaced,    ///< the object is released at t = 0 in the trial's steady air
+  kMixed,     ///< even trial indices re-aim, odd ones are placed
+  kLaunched,  ///< the object slides off at t = 0 under the idle nozzle and coasts to rest
 };
 
-/// The protocol's name as typed: "reaim", "placed", "mixed".
+/// The protocol's name as typed: "reaim", "placed", "mixed", "launched".
 const char* collection_protocol_name(CollectionProtocol p);
 /// The protocol of that name; throws FieldError on "collection.protocol" naming the choices.
 CollectionProtocol parse_collection_protocol(const std::string& name);
@@ -77,6 +84,10 @@ struct CollectionOptions {
   /// idle and the object coasts (recorded with the idle command from then on); 0: never, as
   /// Appendix D. Below record_s.
   double release_s = 0.0;
+  /// Launched trials: the launch speed (m/s) is uniform in [min, max]. Their direction lies within
+  /// 90 deg of the start's way to the origin, so that the coast stays in the camera's view.
+  double min_launch_speed_mps = 0.3;
+  double max_launch_speed_mps = 2.0;
   double frame_rate_hz = 40.0;
   TwinParameters twin;  ///< the twin's physics (effects applied here)
   /// Active: each trial's object gets its own physics, drawn from the trial's twin seed
@@ -96,10 +107,14 @@ struct CollectionTrial {
   Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< where the object is placed (m)
   std::uint64_t twin_seed = 0;                        ///< turbulence and shape of this trial
   bool placed = false;  ///< released in steady air instead of re-aimed at (the protocol's choice)
+  /// Launched trials: the velocity the object slides off with at t = 0 (m/s; zero otherwise).
+  /// Their target is the idle orientation, the command of every recorded frame.
+  Eigen::Vector2d launch_W = Eigen::Vector2d::Zero();
 };
 
 /// The trials: for each tilt in order, per_tilt trials with pan uniform in [-180, 180) deg and the
-/// object at a uniform distance in [min, max] from the trial's s in a uniform direction.
+/// object at a uniform distance in [min, max] from the trial's s in a uniform direction (a
+/// launched trial then keeps the start and aims nowhere: its target is the idle).
 std::vector<CollectionTrial> plan_collection(const CollectionOptions& options);
 
 /// What a recorder is shown of each recorded frame of a trial: the twin at the frame's time,

@@ -289,6 +289,21 @@ const SceneObject& Twin::object(size_t i) const {
   return impl_->scene.objects[i];
 }
 
+void Twin::push_object(size_t i, const Eigen::Vector2d& force_W) {
+  const SceneObject& o = object(i);
+  if (!force_W.allFinite()) {
+    throw InputError("twin: push on object '" + o.id + "': the force must be finite");
+  }
+  const mjModel* m = impl_->scene.model.get();
+  mjData* d = impl_->data.get();
+  // Each body takes its share of the mass, so the object accelerates as one without turning.
+  for (int b : o.bodies) {
+    const double share = m->body_mass[b] / o.mass_kg;
+    d->xfrc_applied[6 * b] = share * force_W.x();
+    d->xfrc_applied[6 * b + 1] = share * force_W.y();
+  }
+}
+
 ObjectMotion Twin::object_state(size_t i) const {
   const SceneObject& o = object(i);
   const mjModel* m = impl_->scene.model.get();

@@ -115,6 +115,10 @@ class Twin {
   size_t object_count() const;
   const SceneObject& object(size_t i) const;
   ObjectMotion object_state(size_t i) const;
+  /// Pushes object i with a horizontal force (N, world frame) at its centre of mass from the next
+  /// step on, until pushed again (zero ends it), as a hand or a chute launches an object: each
+  /// body takes its share of the mass. Throws InputError unless force_W is finite.
+  void push_object(size_t i, const Eigen::Vector2d& force_W);
   std::vector<ObjectMotion> object_states() const;
 
   /// MuJoCo warnings so far (sum of mjData::warning counts) and the last message seen.

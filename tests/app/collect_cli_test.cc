@@ -169,9 +169,16 @@ TEST(CollectCli, BadFlagsAreOneClearLine) {
   expect_usage_error("collect --per-tilt 0 --out x.csv", "--per-tilt");
   expect_usage_error("collect --wait -1 --out x.csv", "--wait");
   expect_usage_error("collect --protocol dropped --out x.csv",
-                     "--protocol: expected one of reaim, placed, mixed, got 'dropped'");
+                     "--protocol: expected one of reaim, placed, mixed, launched, got 'dropped'");
   expect_usage_error("collect --protocol placed --lead-in 0.5 --out x.csv",
-                     "--lead-in: placed trials are recorded from their release");
+                     "--lead-in: placed trials are recorded from their start");
+  expect_usage_error("collect --launch-speed 1,2 --out x.csv",
+                     "--launch-speed needs --protocol launched");
+  expect_usage_error("collect --protocol launched --launch-speed 2,1 --out x.csv",
+                     "--launch-speed: expected speeds 0 < min <= max <= 5 m/s, got 2, 1");
+  expect_usage_error("collect --protocol launched --launch-speed 1 --out x.csv", "--launch-speed");
+  expect_usage_error("collect --protocol launched --release-after 0.5 --out x.csv",
+                     "--release-after: launched trials run under the idle nozzle throughout");
   expect_usage_error("collect --effect warp --out x.csv",
                      "--effect: effect 'warp': unknown effect 'warp'");
   expect_usage_error("collect --effect stiction:ratio=0.5 --out x.csv", "stiction.ratio");

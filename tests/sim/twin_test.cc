@@ -76,6 +76,32 @@ TEST_F(TwinTest, ObjectsWithoutAirStayPut) {
   expect_no_warnings(twin);
 }
 
+// A push (a hand's, a chute's) moves every body of an object as one: a wad pushed with m (10 m/s^2
+// + mu g) for 0.1 s in still air leaves along the push at 0.81 m/s by eq. (8)'s drag c v (10 / c)
+// (1 - exp(-0.1 c)), at 1 m/s without it; the twin's 0.97 lies between (the pushed contact
+// chatters and brakes less than mu g, docs/twin.md, "Data collection"). Zero ends the push.
+TEST_F(TwinTest, APushMovesTheWholeObjectAlongIt) {
+  SceneSpec spec;
+  spec.objects = {{"c", "cotton", {-0.3, 0.2}, std::nullopt}};
+  Twin twin(spec, TwinParameters{}, field_model(), 11);
+  const SceneObject& wad = twin.object(0);
+  const double mu_g = TwinParameters{}.scene.cotton.kinetic_friction * 9.81;
+  const Eigen::Vector2d along(0.6, 0.8);
+  twin.push_object(0, wad.mass_kg * (10.0 + mu_g) * along);
+  twin.advance(0.1);
+  twin.push_object(0, Eigen::Vector2d::Zero());
+  const ObjectMotion pushed = twin.object_state(0);
+  std::printf("pushed wad: %.3f m/s along, %.3f across\n", pushed.v_W.dot(along),
+              pushed.v_W.x() * along.y() - pushed.v_W.y() * along.x());
+  EXPECT_GT(pushed.v_W.dot(along), 0.75);
+  EXPECT_LT(pushed.v_W.dot(along), 1.02);
+  EXPECT_LT(std::abs(pushed.v_W.x() * along.y() - pushed.v_W.y() * along.x()), 0.05);
+  twin.advance(1.0);
+  EXPECT_LT(twin.object_state(0).v_W.norm(), 1e-3);  // coasted to rest once the push ended
+  EXPECT_THROW(twin.push_object(0, Eigen::Vector2d(NAN, 0.0)), InputError);
+  expect_no_warnings(twin);
+}
+
 TEST_F(TwinTest, TracerInTheJetFollowsEquationEight) {
   // Turbulence and pressure push off, static = kinetic: the twin's drag and contact friction
   // are exactly eq. (8) but for MuJoCo's soft contacts (friction slightly under mu N while the
