@@ -39,7 +39,7 @@ struct CollectArgs {
   std::string noise = "none";
   std::string truth_out;
   std::string protocol = "reaim";
-  std::string launch_speed = "0.3,2";
+  std::string launch_speed = "0.5,2.5";
   std::string vary_physics = "none";
 };
 

@@ -22,9 +22,10 @@ struct ProtocolEntry {
   const char* name;
 };
 // A launch pushes the object this long (s) before t = 0, against its kinetic friction and up to
-// the drawn speed, as a chute's slope would: a velocity set in one step makes MuJoCo's soft
-// contact jolt (~0.2 m/s lost in the first step at 2 m/s) and the object chatter on it after.
-constexpr double kLaunchPushS = 0.1;
+// the drawn speed less the drag on the way (0.64-0.85 of it), as a chute's slope would: a velocity
+// set in one step makes MuJoCo's soft contact jolt (~0.2 m/s lost in the first step at 2 m/s),
+// and a push over 0.1 s made the tracer chatter on its contact twice as much as this one.
+constexpr double kLaunchPushS = 0.3;
 
 constexpr ProtocolEntry kProtocols[] = {{CollectionProtocol::kReaim, "reaim"},
                                         {CollectionProtocol::kPlaced, "placed"},

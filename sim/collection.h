@@ -26,9 +26,10 @@
 // object that has outrun the air (the linearised_drag effect) from eq. (8)'s xi3, which the drag
 // inside the jet shares.
 //
-// A third protocol launches the object across the floor with the nozzle idle throughout: at t = 0
-// it slides off at a drawn speed (0.3-2 m/s by default) toward the workspace, as from a chute or
-// a flick on a rig, and coasts to rest in the idle air. No air term acts on it, so its slowing is
+// A third protocol launches the object across the floor with the nozzle idle throughout: a push
+// over the 0.3 s before t = 0 sends it toward the workspace at about a drawn speed (0.5-2.5 m/s by
+// default, less the drag on the way), as a chute on a rig would, and it coasts to rest in the idle
+// air. No air term acts on it, so its slowing is
 // its friction and the still air's drag alone, apart from the air inside the jet that eq. (8)'s
 // xi3 also carries; a release (above) tells the same only where the jet's air has decayed.
 //
@@ -84,10 +85,10 @@ struct CollectionOptions {
   /// idle and the object coasts (recorded with the idle command from then on); 0: never, as
   /// Appendix D. Below record_s.
   double release_s = 0.0;
-  /// Launched trials: the launch speed (m/s) is uniform in [min, max]. Their direction lies within
-  /// 90 deg of the start's way to the origin, so that the coast stays in the camera's view.
-  double min_launch_speed_mps = 0.3;
-  double max_launch_speed_mps = 2.0;
+  /// Launched trials: the push's target speed (m/s) is uniform in [min, max]. Their direction lies
+  /// within 90 deg of the start's way to the origin, so that the coast stays in the camera's view.
+  double min_launch_speed_mps = 0.5;
+  double max_launch_speed_mps = 2.5;
   double frame_rate_hz = 40.0;
   TwinParameters twin;  ///< the twin's physics (effects applied here)
   /// Active: each trial's object gets its own physics, drawn from the trial's twin seed
@@ -107,7 +108,8 @@ struct CollectionTrial {
   Eigen::Vector2d start_W = Eigen::Vector2d::Zero();  ///< where the object is placed (m)
   std::uint64_t twin_seed = 0;                        ///< turbulence and shape of this trial
   bool placed = false;  ///< released in steady air instead of re-aimed at (the protocol's choice)
-  /// Launched trials: the velocity the object slides off with at t = 0 (m/s; zero otherwise).
+  /// Launched trials: the velocity the push aims at (m/s; zero otherwise); the drag on the way
+  /// leaves 0.64-0.85 of it at t = 0.
   /// Their target is the idle orientation, the command of every recorded frame.
   Eigen::Vector2d launch_W = Eigen::Vector2d::Zero();
 };

@@ -200,8 +200,8 @@ TEST(Collection, AReleaseTurnsTheNozzleAwayAndTheObjectCoastsToRest) {
 // with no air where it slides, eq. (8) is dv/dt = -c v - |xi3| along the launch, whose slide from
 // v0 is (v0 - (|xi3| / c) ln(1 + c v0 / |xi3|)) / c. The twin's tracer slides farther: pushed or
 // coasting that fast it chatters on its contact (hops of up to 3 mm, rocking by up to 8 deg, spells
-// of drag alone between harder braking; docs/twin.md, "Data collection"), 0.9-1.4x eq. (8)'s
-// slide over these 20 trials, 1.17x on average; the bounds hold that measured spread.
+// of drag alone between harder braking; docs/twin.md, "Data collection"), 0.95-1.31x eq. (8)'s
+// slide over these 20 trials, 1.12x on average; the bounds hold that measured spread.
 TEST(Collection, ALaunchedObjectCoastsToRestNearWhatItsFrictionAndDragSay) {
   CollectionOptions o = quick_options();
   o.protocol = CollectionProtocol::kLaunched;
@@ -241,19 +241,19 @@ TEST(Collection, ALaunchedObjectCoastsToRestNearWhatItsFrictionAndDragSay) {
         "launched at %.2f m/s (%.2f drawn): slides %.2f cm, eq. (8) %.2f cm (x%.2f), "
         "%.1f deg off its launch\n",
         v0.norm(), t.launch_W.norm(), 100 * travel.norm(), 100 * expected, ratio, off_deg);
-    // The push's drag and the chatter leave 0.75-0.97 of the drawn speed at t = 0.
-    EXPECT_GT(v0.norm(), 0.65 * t.launch_W.norm());
+    // The drag over the push leaves 0.64-0.85 of the drawn speed at t = 0.
+    EXPECT_GT(v0.norm(), 0.6 * t.launch_W.norm());
     EXPECT_LT(v0.norm(), t.launch_W.norm());
     EXPECT_GT(ratio, 0.8);
-    EXPECT_LT(ratio, 1.5);
-    EXPECT_LT(off_deg, 10.0);
+    EXPECT_LT(ratio, 1.45);
+    EXPECT_LT(off_deg, 12.0);  // 0.9-10.3 deg: the chatter turns it a little
     // At rest by the record's end.
     EXPECT_LT((samples.back().p_W - samples[samples.size() - 2].p_W).norm() * o.frame_rate_hz,
               0.005);
   }
   const double mean_ratio = sum_ratio / static_cast<double>(plan.size());
-  EXPECT_GT(mean_ratio, 1.0);
-  EXPECT_LT(mean_ratio, 1.3);
+  EXPECT_GT(mean_ratio, 0.95);
+  EXPECT_LT(mean_ratio, 1.25);
 }
 
 TEST(Collection, SameSeedSameBytesWhateverTheThreadCount) {
