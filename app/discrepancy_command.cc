@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,30 @@ void run(const DiscrepancyArgs& a) {
               {"discrepancy.prior_command", "--prior-command"}},
              [&] { options.validate(); });
 
-  const TrajectoryFiles files = read_trajectory_files(a.data);
+  // NAME=FILE: FILE's trajectories make experiment NAME; the others the unnamed one.
+  std::vector<std::string> paths, experiment_of_file;
+  bool any_experiment = false;
+  for (const std::string& d : a.data) {
+    static const std::regex kNamed("([A-Za-z][A-Za-z0-9_-]*)=(.+)");
+    std::smatch m;
+    if (std::regex_match(d, m, kNamed)) {
+      experiment_of_file.push_back(m[1]);
+      paths.push_back(m[2]);
+      any_experiment = true;
+    } else {
+      experiment_of_file.emplace_back();
+      paths.push_back(d);
+    }
+  }
+  const TrajectoryFiles files = read_trajectory_files(paths);
+  if (any_experiment && paths.size() > 1) {
+    for (const Trajectory& t : files.set.trajectories) {  // ids are FILE_INDEX:ID, 1-based
+      const size_t file = std::stoul(t.id.substr(0, t.id.find(':'))) - 1;
+      if (!experiment_of_file[file].empty()) {
+        options.experiment_of[t.id] = experiment_of_file[file];
+      }
+    }
+  }
   const TrajectorySet& set = files.set;
   const std::string& source = files.source;
   const AirFieldModel field = field_model_or_default(a.table);
@@ -124,7 +148,10 @@ void add_discrepancy_command(CLI::App& app) {
       "docs/discrepancy.md.");
   sub->add_option("data", args->data,
                   "Trajectory CSV (traj,object,t,x,y,pan_deg,tilt_deg), or several (e.g. a\n"
-                  "batch's logs): trajectory ids then become FILE_INDEX:ID, 1-based")
+                  "batch's logs): trajectory ids then become FILE_INDEX:ID, 1-based. NAME=FILE\n"
+                  "puts a file's trajectories in experiment NAME (the others in an unnamed one):\n"
+                  "a cause's held-out size may then be shown by one experiment's windows alone,\n"
+                  "e.g. launched trials (collect --protocol launched) beside closed-loop logs")
       ->required();
   sub->add_option("--model", args->models,
                   "model.json from 'airtwin identify' (repeatable, one per object type); default:\n"

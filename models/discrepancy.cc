@@ -6,6 +6,7 @@
 #include <functional>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include "common/errors.h"
 #include "common/random_stream.h"
@@ -196,6 +197,8 @@ CandidateResult score_candidate(const Evaluator& ev, const std::vector<size_t>& 
   c.heldout_cost = d.cost;
   c.end_mape_improves = d.end_mape_improves;
   c.significant = d.significant;
+  c.shown_by = shown_by_name(d, rule);
+  c.shown_gain = d.shown_gain;
   return c;
 }
 
@@ -320,6 +323,7 @@ std::vector<BackwardCheck> backward_check(const Evaluator& ev, const std::vector
       c.gain = d.gain;
       c.end_mape_improves = d.end_mape_improves;
       c.kept = d.significant;
+      c.shown_by = shown_by_name(d, rule);
       checks.push_back(c);
       const size_t i = checks.size() - 1;
       if (!c.kept && (weakest < 0 || c.p_value > checks[static_cast<size_t>(weakest)].p_value)) {
@@ -718,6 +722,28 @@ DiscrepancyReport analyse_discrepancy(const TrajectorySet& set, const AirFieldMo
   ctx.rule.max_delta_bic = o.max_delta_bic;
   ctx.rule.min_gain = o.min_gain;
   for (size_t i : held) ctx.held_scale_m.push_back(ws.windows[i].scale_m);
+  // The experiments, when named: each held-out window's, by its trajectory's id.
+  std::vector<std::string> experiment_names;
+  std::vector<int> held_experiment;
+  if (!o.experiment_of.empty()) {
+    const auto experiment = [&](const Trajectory& t) {
+      const auto it = o.experiment_of.find(t.id);
+      return it == o.experiment_of.end() ? std::string() : it->second;
+    };
+    std::set<std::string> named;
+    for (const Trajectory& t : set.trajectories) named.insert(experiment(t));
+    experiment_names.assign(named.begin(), named.end());
+    for (size_t i : held) {
+      const std::string e = experiment(set.trajectories[ws.windows[i].trajectory]);
+      held_experiment.push_back(
+          static_cast<int>(std::lower_bound(experiment_names.begin(), experiment_names.end(), e) -
+                           experiment_names.begin()));
+    }
+    ctx.rule.held_experiment = &held_experiment;
+    ctx.rule.experiment_count = static_cast<int>(experiment_names.size());
+    ctx.rule.experiment_names = &experiment_names;
+    ctx.rule.min_experiment_windows = o.min_heldout_windows;
+  }
   ctx.windows = all_windows(train.size(), held.size(), ctx.held_scale_m, informative);
   const ModelExtensions nominal;
   Route route;

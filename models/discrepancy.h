@@ -100,6 +100,13 @@ struct DiscrepancyOptions {
   /// first sample, as the model's timeline has them. Unset: the first recorded command held
   /// before.
   std::optional<NozzleOrientation> prior_command;
+  /// The experiment each trajectory comes from, by trajectory id (ids not listed: the unnamed
+  /// one). Given several, a cause's held-out size (path-error gain, end MAPE) may be shown by one
+  /// experiment's windows alone (its own signed-rank p below the corrected level over the
+  /// experiments' count), the pooled windows still passing the signed-rank test and keeping their
+  /// end MAPE: objects launched to coast in still air show their friction beyond the air, which
+  /// closed-loop logs hold in few windows (docs/discrepancy.md).
+  std::map<std::string, std::string> experiment_of;
   /// Called with one line per stage (progress for people); optional.
   std::function<void(const std::string&)> progress;
 
@@ -121,6 +128,10 @@ struct CandidateResult {
   bool relevant = false;            ///< larger than the extension's negligible size
   bool end_mape_improves = false;   ///< held-out end MAPE not above the round's base
   bool significant = false;
+  /// The experiment whose held-out windows alone showed the size, when the pooled ones did not
+  /// ("" otherwise), and its gain.
+  std::string shown_by;
+  double shown_gain = 0.0;
   /// Of bootstrap resamples of the windows, the fraction in which the decision rule adds this
   /// candidate in its round (its fit held; models/discrepancy_uncertainty.h).
   double selection_frequency = 0.0;
@@ -138,7 +149,8 @@ struct BackwardCheck {
   double p_value = 1.0;             ///< held-out, one-sided Wilcoxon signed-rank
   double gain = 0.0;                ///< 1 - held-out path error with it / without it
   bool end_mape_improves = false;
-  bool kept = false;  ///< significant: the data need it beside the others
+  bool kept = false;     ///< significant: the data need it beside the others
+  std::string shown_by;  ///< as CandidateResult's
 };
 
 /// One step of the exchange check: a cause found (`removed`) replaced by a rival that passed in

@@ -42,9 +42,43 @@ Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k
   d.cost = sum_squares(c);
   // Never a cause beside a worse held-out figure: the end-position MAPE must not grow either.
   d.end_mape_improves = !(d.end_mape > end_mape(b));
-  d.significant = d.delta_bic <= rule.max_delta_bic && d.p_value < rule.p_threshold &&
-                  d.gain >= rule.min_gain && relevant && d.end_mape_improves;
+  const bool held_out_better = d.p_value < rule.p_threshold && d.end_mape_improves;
+  d.significant =
+      d.delta_bic <= rule.max_delta_bic && held_out_better && d.gain >= rule.min_gain && relevant;
+  if (d.significant || rule.experiment_count < 2 || rule.held_experiment == nullptr ||
+      !(d.delta_bic <= rule.max_delta_bic && held_out_better && relevant)) {
+    return d;
+  }
+  // The size shown by one experiment on its own: the same test and figures on its windows.
+  for (int g = 0; g < rule.experiment_count; ++g) {
+    std::vector<double> diff_g;
+    std::vector<WindowScore> b_g, c_g;
+    std::vector<char> informative_g;
+    for (size_t j = 0; j < w.held.size(); ++j) {
+      const size_t i = w.held[j];
+      if ((*rule.held_experiment)[i] != g) continue;
+      diff_g.push_back(diff[j]);
+      b_g.push_back(b[j]);
+      c_g.push_back(c[j]);
+      informative_g.push_back(informative[j]);
+    }
+    if (diff_g.size() < rule.min_experiment_windows) continue;
+    const double gain_g =
+        1.0 - mean_path_error(c_g, informative_g) / mean_path_error(b_g, informative_g);
+    if (wilcoxon_greater(diff_g) < rule.p_threshold / rule.experiment_count &&
+        gain_g >= rule.min_gain && !(end_mape(c_g) > end_mape(b_g)) &&
+        (d.shown_by < 0 || gain_g > d.shown_gain)) {
+      d.shown_by = g;
+      d.shown_gain = gain_g;
+    }
+  }
+  d.significant = d.shown_by >= 0;
   return d;
+}
+
+std::string shown_by_name(const Decision& d, const DecisionRule& rule) {
+  if (d.shown_by < 0 || rule.experiment_names == nullptr) return "";
+  return (*rule.experiment_names)[static_cast<size_t>(d.shown_by)];
 }
 
 double p_chosen_beats_rival(const WindowFigures& chosen, const WindowFigures& rival,

@@ -25,6 +25,14 @@ struct DecisionRule {
   double p_threshold = 0.05;     // alpha / number of candidates
   double max_delta_bic = -10.0;  // training
   double min_gain = 0.15;        // relative drop of the held-out median path error
+  // The experiments the data come from (DiscrepancyOptions::experiments): each held-out window's
+  // experiment index (indexed as WindowFigures::held), and their count. One experiment (or
+  // none given): the rule on the pooled windows alone.
+  const std::vector<int>* held_experiment = nullptr;
+  int experiment_count = 1;
+  const std::vector<std::string>* experiment_names = nullptr;  // by index
+  // An experiment needs this many held-out windows to show a cause's size on its own.
+  size_t min_experiment_windows = 8;
 };
 
 // What the rule reads and decides.
@@ -37,6 +45,10 @@ struct Decision {
   double cost = 0.0;        // the candidate's robust cost over the held-out windows
   bool end_mape_improves = false;
   bool significant = false;
+  // The experiment whose held-out windows showed the size (gain and end MAPE) when the pooled
+  // windows did not; -1: the pooled windows (or none).
+  int shown_by = -1;
+  double shown_gain = 0.0;  // that experiment's gain
 };
 
 // The held-out and training windows the rule reads: indices into WindowFigures' vectors (repeats
@@ -50,9 +62,16 @@ struct DecisionWindows {
 
 // The rule: delta BIC <= max_delta_bic with k the candidate's parameter count, p below the
 // threshold (held-out differences below kResolvedDifference_m count as ties at zero), gain >=
-// min_gain, the end MAPE not above the base's, and `relevant` (larger than negligible).
+// min_gain, the end MAPE not above the base's, and `relevant` (larger than negligible). With
+// several experiments the size (gain and end MAPE) may instead be shown by one of them on its
+// own held-out windows, its signed-rank p below the threshold over the experiments' count: a
+// protocol made to isolate a cause (objects coasting in still air) is not outvoted by data in
+// which the cause is a small part; the pooled p and the pooled end MAPE still decide.
 Decision decide(const WindowFigures& base, const WindowFigures& candidate, int k, bool relevant,
                 const DecisionWindows& windows, const DecisionRule& rule);
+
+// The name of the experiment that showed a decision's size; "" for the pooled windows.
+std::string shown_by_name(const Decision& d, const DecisionRule& rule);
 
 // Whether the held-out windows tell a chosen cause from a rival that passed the rule in the same
 // round: the p-value of the one-sided signed-rank test that the chosen model's held-out path

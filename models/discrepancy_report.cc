@@ -45,6 +45,8 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                 {"relevant", c.relevant},
                 {"end_mape_improves", c.end_mape_improves},
                 {"significant", c.significant},
+                {"shown_by", c.shown_by},
+                {"shown_gain", num(c.shown_gain)},
                 {"selection_frequency", c.selection_frequency},
                 {"fit_evaluations", c.fit_evaluations},
                 {"fit_screen_evaluations", c.fit_screen_evaluations}};
@@ -95,7 +97,8 @@ std::string discrepancy_report_json(const DiscrepancyReport& r) {
                         {"p_value", num(b.p_value)},
                         {"gain", num(b.gain)},
                         {"end_mape_improves", b.end_mape_improves},
-                        {"kept", b.kept}});
+                        {"kept", b.kept},
+                        {"shown_by", b.shown_by}});
   }
   j["backward"] = backward;
   Json exchanges = Json::array();
@@ -276,9 +279,20 @@ std::string discrepancy_report_markdown(const DiscrepancyReport& r) {
           fixed(c.heldout_end_mape, 1) + " | " + fixed(100.0 * c.gain, 1) + " | " +
           fixed(c.delta_bic, 1) + " | " +
           (c.p_value < 1e-4 ? std::string("< 1e-4") : fixed(c.p_value, 4)) + " | " +
-          (c.significant ? "yes" : "no") + " | " + fixed(100.0 * c.selection_frequency, 0) + " |\n";
+          (c.significant ? (c.shown_by.empty() ? std::string("yes")
+                                               : "yes, in " + c.shown_by + " (" +
+                                                     fixed(100.0 * c.shown_gain, 1) + " %)")
+                         : std::string("no")) +
+          " | " + fixed(100.0 * c.selection_frequency, 0) + " |\n";
   }
   md += "\n";
+  if (std::any_of(r.candidates.begin(), r.candidates.end(),
+                  [](const CandidateResult& c) { return !c.shown_by.empty(); })) {
+    md +=
+        "\"yes, in E\": the pooled held-out windows pass the signed-rank test and keep their end "
+        "MAPE, and experiment E's own windows show the size (its path-error gain in brackets), "
+        "which the pooled windows, mostly of other experiments, do not.\n\n";
+  }
   if (!r.none_frequency.empty()) {
     md += "The last column: of " + std::to_string(discrepancy_detail::kSelectionResamples) +
           " resamples of the training and held-out windows (the fits held), how often the same "

@@ -72,6 +72,73 @@ TEST(DiscrepancyDecision, ReadsEachCriterionAsDefined) {
   EXPECT_FALSE(e.significant);
 }
 
+// Two experiments: 40 held-out windows ("logs") where the candidate changes the path error by
+// 2 % (0.4-0.5 mm, ties) and 12 ("coast", windows 40-51) where it halves it. The pooled median
+// moves 6 %: no cause by the pooled windows alone. Named as experiments, the coast's windows show
+// the size (gain 50 %, the same p as the pooled windows' since the logs' are ties, below 0.05 /
+// 2), the pooled ones pass the test and keep their end MAPE: a cause, shown by the coast. Each
+// condition of that route vetoes on its own.
+TEST(DiscrepancyDecision, OneExperimentMayShowTheSizeThePooledWindowsDoNot) {
+  Case c;
+  for (int i = 0; i < 20; ++i) {
+    c.base.train_cost.push_back(1.0);
+    c.candidate.train_cost.push_back(0.25);
+  }
+  std::vector<int> experiment;
+  for (int i = 0; i < 52; ++i) {
+    const bool coast = i >= 40;
+    const double e = coast ? 0.2 + 0.01 * (i - 40) : 0.2 + 0.001 * i;
+    c.base.held.push_back(WindowScore{e, 40.0});
+    c.candidate.held.push_back(WindowScore{coast ? 0.5 * e : 0.98 * e, coast ? 20.0 : 40.0});
+    c.scale_m.push_back(0.1);
+    c.informative.push_back(1);
+    experiment.push_back(coast ? 1 : 0);
+  }
+  const std::vector<std::string> names = {"logs", "coast"};
+  const DecisionWindows w = all_windows(20, 52, c.scale_m, c.informative);
+  DecisionRule rule;
+  const Decision pooled = decide(c.base, c.candidate, 1, true, w, rule);
+  EXPECT_LT(pooled.gain, 0.15);
+  std::vector<double> coast_diff;
+  for (int i = 40; i < 52; ++i)
+    coast_diff.push_back(c.base.held[i].path_error - c.candidate.held[i].path_error);
+  const double p = wilcoxon_greater(coast_diff);
+  EXPECT_NEAR(pooled.p_value, p, 1e-15);  // the 40 ties drop out
+  EXPECT_LT(p, 0.025);
+  EXPECT_FALSE(pooled.significant);
+  EXPECT_EQ(pooled.shown_by, -1);
+
+  rule.held_experiment = &experiment;
+  rule.experiment_count = 2;
+  rule.experiment_names = &names;
+  const Decision d = decide(c.base, c.candidate, 1, true, w, rule);
+  EXPECT_TRUE(d.significant);
+  EXPECT_EQ(d.shown_by, 1);
+  EXPECT_EQ(shown_by_name(d, rule), "coast");
+  EXPECT_NEAR(d.shown_gain, 0.5, 1e-12);
+  EXPECT_NEAR(d.gain, pooled.gain, 1e-15);  // the pooled figures are reported as they are
+
+  // The coast's p must be below the level over the experiments' count.
+  DecisionRule strict = rule;
+  strict.p_threshold = 1.5 * p;  // the pooled p passes, the coast's against 0.75 p fails
+  EXPECT_FALSE(decide(c.base, c.candidate, 1, true, w, strict).significant);
+  strict.p_threshold = 2.5 * p;
+  EXPECT_TRUE(decide(c.base, c.candidate, 1, true, w, strict).significant);
+  // Too few windows in the experiment.
+  strict = rule;
+  strict.min_experiment_windows = 13;
+  EXPECT_FALSE(decide(c.base, c.candidate, 1, true, w, strict).significant);
+  // The pooled end MAPE must not grow, nor the experiment's own.
+  Case worse = c;
+  for (int i = 0; i < 40; ++i) worse.candidate.held[i].end_pct = 50.0;  // pooled 43.1 > 40 %
+  EXPECT_FALSE(decide(worse.base, worse.candidate, 1, true, w, rule).significant);
+  // Not without the training's support, nor below the negligible size.
+  strict = rule;
+  strict.max_delta_bic = pooled.delta_bic - 1.0;
+  EXPECT_FALSE(decide(c.base, c.candidate, 1, true, w, strict).significant);
+  EXPECT_FALSE(decide(c.base, c.candidate, 1, false, w, rule).significant);
+}
+
 TEST(DiscrepancyDecision, ARivalIsToldApartOnlyByLowerHeldOutErrors) {
   const Case c = better_everywhere();
   const DecisionWindows w = all_windows(20, 12, c.scale_m, c.informative);
