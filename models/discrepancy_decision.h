@@ -25,7 +25,7 @@ struct DecisionRule {
   double p_threshold = 0.05;     // alpha / number of candidates
   double max_delta_bic = -10.0;  // training
   double min_gain = 0.15;        // relative drop of the held-out median path error
-  // The experiments the data come from (DiscrepancyOptions::experiments): each held-out window's
+  // The experiments the data come from (DiscrepancyOptions::experiment_of): each held-out window's
   // experiment index (indexed as WindowFigures::held), and their count. One experiment (or
   // none given): the rule on the pooled windows alone.
   const std::vector<int>* held_experiment = nullptr;
