@@ -93,6 +93,7 @@ struct Scratch {
   Prediction prediction;
   // Extended planning.
   std::vector<WindowStart> window_start;
+  std::vector<ObjectExtensions> object_ext;
   std::vector<Eigen::Vector2d> end_W;
   // Transition: the sweep's schedule, and what every candidate of one decision shares (worked
   // out at the first): the objects' states as the transit under the command in force ends.
@@ -197,8 +198,18 @@ void predict_extended(const ExtendedPlanning& ext, const ExtendedPredictor& pred
     scratch.window_start[j] = WindowStart{0.0, pr.positions_W[j], pr.velocities_W[j]};
   }
   scratch.end_W.resize(m);
-  predictor.predict_ends(pr.dynamics, ext.extensions, timeline, scratch.window_start, t_end,
-                         scratch.end_W);
+  // Each object its type's own effects, when the model has effects per type.
+  scratch.object_ext.clear();
+  if (!ext.extensions.object_by_type.empty()) {
+    if (pr.types.size() != m) {
+      throw InputError(
+          "controller: the extended model has effects per object type, the objects no types");
+    }
+    for (const std::string& type : pr.types)
+      scratch.object_ext.push_back(ext.extensions.object_for(type));
+  }
+  predictor.predict_ends(pr.dynamics, ext.extensions, scratch.object_ext, timeline,
+                         scratch.window_start, t_end, scratch.end_W);
 }
 
 void check_problem(const PlanningProblem& pr) {
@@ -206,6 +217,9 @@ void check_problem(const PlanningProblem& pr) {
   if (m == 0) throw InputError("controller: no objects to plan for");
   if (pr.velocities_W.size() != m || pr.dynamics.size() != m || pr.references_W.size() != m) {
     throw InputError("controller: positions, velocities, dynamics and references differ in size");
+  }
+  if (!pr.types.empty() && pr.types.size() != m) {
+    throw InputError("controller: positions and object types differ in size");
   }
   if ((!pr.weights.empty() && pr.weights.size() != m) ||
       (!pr.reach_m.empty() && pr.reach_m.size() != m)) {

@@ -164,7 +164,10 @@ struct PlanningProblem {
   /// Each object's current speed (m/s, >= 0) along its radial direction from the candidate s is
   /// taken as max(0, v_W . e_r): what carries over under eq. (9) when the orientation changes.
   std::span<const Eigen::Vector2d> velocities_W;
-  std::span<const ObjectDynamics> dynamics;       ///< eq. (8) coefficients per object
+  std::span<const ObjectDynamics> dynamics;  ///< eq. (8) coefficients per object
+  /// Each object's type: extended planning with effects per type gives each object its type's
+  /// (ModelExtensions::object_for); may be empty otherwise.
+  std::span<const std::string> types;
   std::span<const Eigen::Vector2d> references_W;  ///< r_j (m)
   /// w_j, each finite and >= 0; empty: all 1 (eq. 10).
   std::span<const double> weights;

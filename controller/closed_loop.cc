@@ -64,6 +64,7 @@ PlanningProblem DecisionInputs::problem(double pan_hint_rad) const {
   problem.positions_W = positions_W;
   problem.velocities_W = velocities_W;
   problem.dynamics = dynamics;
+  problem.types = types;
   problem.references_W = references_W;
   problem.weights = shaping.weights;
   problem.reach_m = shaping.reach_m;

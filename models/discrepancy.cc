@@ -133,6 +133,16 @@ std::vector<std::string> decidable_candidates(const WindowSet& ws, size_t n_held
                             " deg): causes are fitted at that tilt only; how they depend on the "
                             "tilt cannot be checked.");
   }
+  // Several object types: an object's own effects are fitted per type (NAME@TYPE), since a
+  // tracer's drag and contact say nothing of a cotton wad's.
+  std::set<std::string> types;
+  for (const Window& w : ws.windows) types.insert(*w.type);
+  if (types.size() > 1) {
+    std::string list;
+    for (const std::string& t : types) list += (list.empty() ? "" : ", ") + t;
+    report->notes.push_back("The data hold several object types (" + list +
+                            "): " + per_type_effect_names() + " are fitted per type (NAME@TYPE).");
+  }
   std::vector<std::string> names;
   for (const EffectSpec& e : effect_catalogue()) {
     if ((e.id == EffectId::kResponseDelay || e.id == EffectId::kTransportLag) && !any_change) {
@@ -142,7 +152,11 @@ std::vector<std::string> decidable_candidates(const WindowSet& ws, size_t n_held
           "lead-in before each re-aim, or analyse a closed-loop log).");
       continue;
     }
-    names.push_back(e.name);
+    if (e.per_type && types.size() > 1) {
+      for (const std::string& t : types) names.push_back(std::string(e.name) + "@" + t);
+    } else {
+      names.push_back(e.name);
+    }
   }
   return names;
 }

@@ -11,6 +11,7 @@
 
 #include "common/parallel_for.h"
 #include "common/units.h"
+#include "models/discrepancy_evaluation.h"
 #include "models/discrepancy_report.h"
 #include "models/discrepancy_statistics.h"
 
@@ -94,6 +95,9 @@ std::vector<Sample> acceleration_samples(const ExtendedPredictor& pred, const Wi
                                          const ModelExtensions& ext) {
   std::vector<Sample> out;
   std::vector<Eigen::Vector2d> model_p;
+  std::vector<size_t> all(ws.windows.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  const std::map<std::string, ModelExtensions> typed = extensions_by_type(ext, ws, all);
   for (size_t wi = 0; wi < ws.windows.size(); ++wi) {
     const Window& w = ws.windows[wi];
     const size_t n = w.times.size();
@@ -129,7 +133,7 @@ std::vector<Sample> acceleration_samples(const ExtendedPredictor& pred, const Wi
       // An object the measurement shows at rest starts at rest (the quadratic's slope there is
       // noise).
       if (from.v_W.norm() < kMinSpeed) from.v_W.setZero();
-      pred.predict(*w.xi, ext, *w.timeline, from,
+      pred.predict(*w.xi, typed.empty() ? ext : typed.at(*w.type), *w.timeline, from,
                    std::span<const double>(w.times.data() + first, 2 * kHalfSpan + 1), &model_p);
       const Eigen::Matrix<double, 3, 2> m =
           quadratic([&](size_t j) -> Eigen::Vector2d { return model_p[j - first]; });

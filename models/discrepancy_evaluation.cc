@@ -13,6 +13,18 @@ double robust_cost(double e) {
   return 2.0 * c2 * (std::sqrt(1.0 + e * e / c2) - 1.0);
 }
 
+std::map<std::string, ModelExtensions> extensions_by_type(const ModelExtensions& ext,
+                                                          const WindowSet& ws,
+                                                          const std::vector<size_t>& which) {
+  std::map<std::string, ModelExtensions> typed;
+  if (ext.object_by_type.empty()) return typed;
+  for (size_t i : which) {
+    const std::string& type = *ws.windows[i].type;
+    if (typed.find(type) == typed.end()) typed.emplace(type, ext.for_type(type));
+  }
+  return typed;
+}
+
 void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
                          std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
                          Fidelity fidelity) const {
@@ -23,11 +35,13 @@ void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& 
     offsets[i + 1] = offsets[i] + 2 * ws_.windows[which[i]].times.size();
   }
   if (residuals != nullptr) residuals->setZero(static_cast<Eigen::Index>(offsets.back()));
+  const std::map<std::string, ModelExtensions> typed = extensions_by_type(ext, ws_, which);
   auto work = [&](size_t begin, size_t end) {
     std::vector<Eigen::Vector2d> predicted;
     for (size_t i = begin; i < end; ++i) {
       const Window& w = ws_.windows[which[i]];
-      predictor.predict(*w.xi, ext, *w.timeline, w.start, w.times, &predicted);
+      predictor.predict(*w.xi, typed.empty() ? ext : typed.at(*w.type), *w.timeline, w.start,
+                        w.times, &predicted);
       const double norm = 1.0 / (w.scale_m * std::sqrt(static_cast<double>(w.times.size())));
       double sum = 0.0;
       for (size_t k = 0; k < w.times.size(); ++k) {

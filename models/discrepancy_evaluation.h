@@ -68,6 +68,12 @@ class Evaluator {
   unsigned threads_ = 1;
 };
 
+// `ext` as each type among windows `which` of `ws` feels it (ModelExtensions::for_type); empty
+// when `ext` has no effects of one type alone (every window then feels `ext`).
+std::map<std::string, ModelExtensions> extensions_by_type(const ModelExtensions& ext,
+                                                          const WindowSet& ws,
+                                                          const std::vector<size_t>& which);
+
 // The fits' cost: the robust sum over windows.
 double sum_squares(const std::vector<WindowScore>& s);
 // The typical path error: the median over the windows marked informative (robust to the same

@@ -68,6 +68,7 @@ WindowSet make_windows(const TrajectorySet& set,
       Window w;
       w.trajectory = ti;
       w.xi = &xi->second;
+      w.type = &xi->first;
       w.timeline = timeline;
       const StartFit fit = fit_start(s, i0);
       w.start.t_s = s[i0].t_s;

@@ -27,6 +27,7 @@ constexpr double kResolvedDifference_m = 0.001;
 struct Window {
   size_t trajectory = 0;
   const ObjectDynamics* xi = nullptr;
+  const std::string* type = nullptr;  // the object's type (the coefficients' key)
   const NozzleTimeline* timeline = nullptr;
   WindowStart start;
   std::vector<double> times;              // residual samples (absolute s)

@@ -37,7 +37,8 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "drag grows with the square of the relative air speed (a higher Reynolds number regime)",
        "extra drag acceleration coefficient |u_rel| u_rel, u_rel = u_air - v",
        {{"coefficient", "1/m", 0.5, 0.0, true, 0.0, 20.0, 0.0, 5.0}},
-       0.1},  // 1/m: 10 % of linear drag at ~1 m/s
+       0.1,  // 1/m: 10 % of linear drag at ~1 m/s
+       true},
       {EffectId::kFloorSlope,
        "floor_slope",
        "the floor is not level: gravity pulls objects downhill",
@@ -77,7 +78,8 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "relative air speed grows",
        "upward lift of lift_s2_per_m2 |u_rel|^2 times each object's weight, u_rel = u_air - v",
        {{"lift_s2_per_m2", "s^2/m^2", 0.05, 0.0, true, 0.0, 1.0, 0.0, 0.2}},
-       0.01},  // s^2/m^2: 4 % of friction at 2 m/s of relative air
+       0.01,  // s^2/m^2: 4 % of friction at 2 m/s of relative air
+       true},
       {EffectId::kLinearisedDrag,
        "linearised_drag",
        "eq. (8)'s linear drag is the tangent of a quadratic drag at a working relative air speed "
@@ -86,7 +88,8 @@ const std::array<EffectSpec, kEffectCount>& effect_catalogue() {
        "eq. (8)'s drag c (k u - v) turns into the quadratic it is the tangent of, whose intercept "
        "takes intercept_share of the friction (eq. (8)'s law only)",
        {{"intercept_share", "", 0.5, 0.0, true, 0.0, 0.95, 0.0, 0.9}},
-       0.05},  // 5 % of the friction
+       0.05,  // 5 % of the friction
+       true},
   }};
   return catalogue;
 }
@@ -107,10 +110,40 @@ std::string effect_names() {
 }
 
 const EffectSpec& find_effect(const std::string& name) {
+  const size_t at = name.find('@');
+  const std::string base = name.substr(0, at);
   for (const EffectSpec& e : effect_catalogue()) {
-    if (name == e.name) return e;
+    if (base != e.name) continue;
+    if (at == std::string::npos) return e;
+    if (!e.per_type) {
+      throw InputError("effect " + base + " acts on the rig, not on one object type: write '" +
+                       base + "' without '@" + name.substr(at + 1) +
+                       "' (per type: " + per_type_effect_names() + ")");
+    }
+    const std::string type = name.substr(at + 1);
+    if (type.empty() || type.find_first_of("@:, \t") != std::string::npos) {
+      throw InputError("effect '" + name + "': expected " + base +
+                       "@TYPE with TYPE an object type (tracer, cotton)");
+    }
+    return e;
   }
-  throw InputError("unknown effect '" + name + "'; valid effects: " + effect_names());
+  throw InputError("unknown effect '" + base + "'; valid effects: " + effect_names());
+}
+
+std::string effect_object_type(const std::string& name) {
+  find_effect(name);
+  const size_t at = name.find('@');
+  return at == std::string::npos ? std::string() : name.substr(at + 1);
+}
+
+std::string per_type_effect_names() {
+  std::string names;
+  for (const EffectSpec& e : effect_catalogue()) {
+    if (!e.per_type) continue;
+    if (!names.empty()) names += ", ";
+    names += e.name;
+  }
+  return names;
 }
 
 size_t effect_parameter_index(const EffectSpec& spec, const std::string& key) {

@@ -85,13 +85,24 @@ struct EffectSpec {
   /// Below this size (the largest |value - off| over the switching parameters, typed units) the
   /// effect is not worth adding to a model, however significant (docs/discrepancy.md).
   double negligible_size;
+  /// An effect of the object (its drag, lift, contact) rather than of the rig: a model may carry
+  /// it per object type, written NAME@TYPE ("linearised_drag@tracer"), which the discrepancy
+  /// analysis fits when the data hold several types. Stiction is the object's too, but stays
+  /// shared: the analysis carries it as a nuisance of every fit (models/discrepancy_fit.h).
+  bool per_type = false;
 };
 
 /// The catalogue, indexed by EffectId.
 const std::array<EffectSpec, kEffectCount>& effect_catalogue();
 const EffectSpec& effect_spec(EffectId id);
-/// The entry named `name`; InputError naming it and listing the names when there is none.
+/// The entry named `name`, "NAME" or "NAME@TYPE" (a per_type effect for objects of one type);
+/// InputError naming it and listing the names when there is none, or when a rig's effect is
+/// given a type.
 const EffectSpec& find_effect(const std::string& name);
+/// TYPE of "NAME@TYPE", "" for "NAME" (InputError as find_effect's).
+std::string effect_object_type(const std::string& name);
+/// The per_type effects' names, comma-separated, in catalogue order (for messages).
+std::string per_type_effect_names();
 /// The names, comma-separated, in catalogue order (for messages).
 std::string effect_names();
 

@@ -108,6 +108,10 @@ ExtendedModel parse_extended_model_json(const std::string& text, const std::stri
     } catch (const InputError& e) {
       throw InputError(where + ": " + e.what());
     }
+    const std::string type = effect_object_type(name);
+    if (!type.empty() && m.objects.find(type) == m.objects.end()) {
+      throw InputError(where + ": no object type '" + type + "' in objects");
+    }
     if (!params.is_object()) throw InputError(where + ": expected an object of parameters");
     for (const auto& [key, value] : params.items()) {
       bool known = false;

@@ -40,9 +40,10 @@ namespace {
 
 // The catalogue's forces without friction, for one set of extensions and coefficients.
 struct Pull {
-  Pull(const ObjectDynamics& xi, const ModelExtensions& ext)
+  Pull(const ObjectDynamics& xi, const ModelExtensions& ext, const ObjectExtensions& object)
       : xi(xi),
         ext(ext),
+        object(object),
         cos_d(std::cos(ext.deflection_rad)),
         sin_d(std::sin(ext.deflection_rad)),
         slope(
@@ -52,8 +53,8 @@ struct Pull {
     // linearised_drag: xi1 v + xi2 u = c (k u - v) = c w, the tangent at |w| = w0 of the
     // quadratic (c / 2 w0) |w| w minus its intercept c w0 / 2 = share |xi3| along w.
     const double c = -xi.xi1;
-    if (ext.drag_intercept_share > 0.0 && c > 0.0 && xi.xi3 < 0.0) {
-      intercept = ext.drag_intercept_share * -xi.xi3;
+    if (object.drag_intercept_share > 0.0 && c > 0.0 && xi.xi3 < 0.0) {
+      intercept = object.drag_intercept_share * -xi.xi3;
       tangent_speed = 2.0 * intercept / c;
       curvature = 0.5 * c / tangent_speed;
       air_gain = xi.xi2 / c;
@@ -68,8 +69,8 @@ struct Pull {
     const Eigen::Vector2d u0 = field.velocity(p);
     const Eigen::Vector2d u = ext.field_scale * Eigen::Vector2d(cos_d * u0.x() - sin_d * u0.y(),
                                                                 sin_d * u0.x() + cos_d * u0.y());
-    *friction_left = ext.lift_s2_per_m2 > 0.0
-                         ? std::max(0.0, 1.0 - ext.lift_s2_per_m2 * (u - v).squaredNorm())
+    *friction_left = object.lift_s2_per_m2 > 0.0
+                         ? std::max(0.0, 1.0 - object.lift_s2_per_m2 * (u - v).squaredNorm())
                          : 1.0;
     Eigen::Vector2d a = slope;
     if (tangent_speed > 0.0) {
@@ -83,9 +84,9 @@ struct Pull {
     } else {
       a += xi.xi1 * v + xi.xi2 * u;
     }
-    if (ext.quadratic_drag_per_m != 0.0) {
+    if (object.quadratic_drag_per_m != 0.0) {
       const Eigen::Vector2d rel = u - v;
-      a += ext.quadratic_drag_per_m * rel.norm() * rel;
+      a += object.quadratic_drag_per_m * rel.norm() * rel;
     }
     if (push_scale != 0.0) {
       const Eigen::Vector2d d = p - field.stagnation_point();
@@ -100,6 +101,7 @@ struct Pull {
 
   const ObjectDynamics& xi;
   const ModelExtensions& ext;
+  const ObjectExtensions& object;
   double cos_d, sin_d;
   Eigen::Vector2d slope;
   double push_scale;
@@ -246,6 +248,16 @@ struct FeltField {
   int steady = 0;
 };
 
+// The predictor moves objects of one type under ModelExtensions::object; a type's own per_type
+// effects are resolved by the caller (ModelExtensions::for_type), never silently dropped.
+void require_one_type(const ModelExtensions& ext) {
+  if (!ext.object_by_type.empty()) {
+    throw InputError("extended predictor: the extensions hold " +
+                     std::string(ext.object_by_type.begin()->first) +
+                     "'s own effects; predict with the extensions for_type() of the object");
+  }
+}
+
 }  // namespace
 
 void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions& ext,
@@ -254,6 +266,7 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
                                 std::vector<Eigen::Vector2d>* positions) const {
   AIRTWIN_DEMAND(positions != nullptr);
   ext.validate();
+  require_one_type(ext);
   if (!(std::isfinite(start.t_s) && start.p_W.allFinite() && start.v_W.allFinite())) {
     throw InputError("extended predictor: the start state is not finite");
   }
@@ -280,7 +293,7 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   // While the nozzle moves the orientation changes every step: the field is then read along rays
   // (two profiles per step); once it has held still for kSteadySteps the full field is built.
   FeltField air(field_, felt(start.t_s, start.p_W));
-  const Pull pull(xi, ext);
+  const Pull pull(xi, ext, ext.object);
   Mover object(pull, start.p_W, start.v_W);
   double t = start.t_s;
   size_t next = 0;
@@ -308,12 +321,21 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
 }
 
 void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const ModelExtensions& ext,
+                                     std::span<const ObjectExtensions> objects_ext,
                                      const NozzleTimeline& timeline,
                                      std::span<const WindowStart> starts, double t_end_s,
                                      std::span<Eigen::Vector2d> ends) const {
   ext.validate();
-  if (xi.size() != starts.size() || ends.size() != starts.size()) {
-    throw InputError("extended predictor: coefficients, starts and ends differ in number");
+  if (objects_ext.empty()) require_one_type(ext);
+  if (xi.size() != starts.size() || ends.size() != starts.size() ||
+      !(objects_ext.empty() || objects_ext.size() == starts.size())) {
+    throw InputError(
+        "extended predictor: coefficients, object extensions, starts and ends differ in number");
+  }
+  for (const ObjectExtensions& o : objects_ext) {
+    ModelExtensions check;
+    check.object = o;
+    check.validate();
   }
   if (starts.empty()) return;
   const double t0 = starts[0].t_s;
@@ -329,7 +351,8 @@ void ExtendedPredictor::predict_ends(std::span<const ObjectDynamics> xi, const M
   // Every object's pull and state, side by side (a decision has tens of objects at most).
   std::vector<Pull> pulls;
   pulls.reserve(starts.size());
-  for (size_t j = 0; j < starts.size(); ++j) pulls.emplace_back(xi[j], ext);
+  for (size_t j = 0; j < starts.size(); ++j)
+    pulls.emplace_back(xi[j], ext, objects_ext.empty() ? ext.object : objects_ext[j]);
   std::vector<Mover> objects;
   objects.reserve(starts.size());
   for (size_t j = 0; j < starts.size(); ++j)

@@ -52,8 +52,9 @@ class ExtendedPredictor {
   explicit ExtendedPredictor(const AirFieldModel& field, double step_s = 1e-3);
 
   /// Positions of the object at `times_s` (absolute, non-decreasing, none before start.t_s):
-  /// `positions` gets one entry per time. Throws InputError when the inputs are not finite, the
-  /// times are not ordered or the extensions are invalid.
+  /// `positions` gets one entry per time. `ext` as the object's type feels them
+  /// (ModelExtensions::for_type). Throws InputError when the inputs are not finite, the times are
+  /// not ordered, the extensions are invalid or hold a type's own effects.
   void predict(const ObjectDynamics& xi, const ModelExtensions& ext, const NozzleTimeline& timeline,
                const WindowStart& start, std::span<const double> times_s,
                std::vector<Eigen::Vector2d>* positions) const;
@@ -61,11 +62,15 @@ class ExtendedPredictor {
   /// The end positions at `t_end_s` of several objects that start together (every start at the
   /// same t_s) under one timeline: each object's result is the same as predict() with the one
   /// sample time t_end_s would give, at a fraction of the cost (the field is rebuilt once per
-  /// orientation change for all objects). `ends` has one entry per start. Throws InputError when
-  /// sizes differ, the starts differ in time, or an input is not finite.
+  /// orientation change for all objects). `objects_ext` gives each object its type's per_type
+  /// effects (ModelExtensions::object_for), in place of ext.object and ext.object_by_type; empty:
+  /// ext.object for all. `ends` has one entry per start. Throws InputError when sizes differ, the
+  /// starts differ in time, an input is not finite, or `objects_ext` is empty and `ext` holds a
+  /// type's own effects.
   void predict_ends(std::span<const ObjectDynamics> xi, const ModelExtensions& ext,
-                    const NozzleTimeline& timeline, std::span<const WindowStart> starts,
-                    double t_end_s, std::span<Eigen::Vector2d> ends) const;
+                    std::span<const ObjectExtensions> objects_ext, const NozzleTimeline& timeline,
+                    std::span<const WindowStart> starts, double t_end_s,
+                    std::span<Eigen::Vector2d> ends) const;
 
   /// The orientation the air follows at t under `ext` (offset added, tilt kept inside the field
   /// model's range).

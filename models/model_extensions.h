@@ -5,12 +5,24 @@
 // (models/extended_predictor.h) predicts with them; extended_model.json stores them in the
 // catalogue's typed units, so a finding reads like the `--effect` that would reproduce it.
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "models/effect_catalogue.h"
 
 namespace airtwin {
+
+/// The per_type effects of the catalogue (effect_catalogue.h): the object's drag and contact, in
+/// SI; the defaults are off.
+struct ObjectExtensions {
+  double quadratic_drag_per_m = 0.0;
+  /// air_lift: friction times max(0, 1 - k |u - v|^2) (s^2/m^2, >= 0; 0: eq. (8)'s constant)
+  double lift_s2_per_m2 = 0.0;
+  /// linearised_drag: the share of eq. (8)'s friction |xi3| that is the intercept of its linear
+  /// drag read as the tangent of a quadratic ([0, 0.95]; 0: eq. (8)'s linear drag and friction)
+  double drag_intercept_share = 0.0;
+};
 
 /// Every extension's parameters in SI; the defaults are the nominal model (all off).
 struct ModelExtensions {
@@ -28,16 +40,25 @@ struct ModelExtensions {
   /// transport_lag: a point r from s feels an orientation min(pace r, kMaxTransportLagS) after
   /// it reached s (s/m, >= 0; 0: the field swings rigidly)
   double transport_pace_s_per_m = 0.0;
-  /// air_lift: friction times max(0, 1 - k |u - v|^2) (s^2/m^2, >= 0; 0: eq. (8)'s constant)
-  double lift_s2_per_m2 = 0.0;
-  /// linearised_drag: the share of eq. (8)'s friction |xi3| that is the intercept of its linear
-  /// drag read as the tangent of a quadratic ([0, 0.95]; 0: eq. (8)'s linear drag and friction)
-  double drag_intercept_share = 0.0;
+  /// The per_type effects of every object ("NAME").
+  ObjectExtensions object;
+  /// One object type's own ("NAME@TYPE"): an effect switched on here replaces `object`'s for
+  /// objects of that type (an effect off here leaves `object`'s).
+  std::map<std::string, ObjectExtensions> object_by_type;
+
+  /// The per_type effects objects of `type` move under.
+  ObjectExtensions object_for(const std::string& type) const;
+  /// These extensions as objects of `type` feel them: `object` = object_for(type), no
+  /// object_by_type (what the predictor takes, models/extended_predictor.h).
+  ModelExtensions for_type(const std::string& type) const;
 
   /// Throws InputError naming the effect and parameter when a value is not finite or out of its
   /// physical range (the catalogue's).
   void validate() const;
 };
+
+// Extension names are the catalogue's, "NAME" or, for a per_type effect, "NAME@TYPE" (the
+// extension of objects of TYPE alone, ModelExtensions::object_by_type).
 
 /// The size of extension `name` in `ext` (effect_size of its typed values) and the size below
 /// which it is negligible (the catalogue's).
@@ -52,7 +73,8 @@ void set_extension_values(ModelExtensions* ext, const std::string& name,
                           const std::vector<double>& typed);
 /// Whether extension `name` differs from the nominal model in `ext`.
 bool extension_active(const ModelExtensions& ext, const std::string& name);
-/// The names of the active extensions, in catalogue order.
+/// The names of the active extensions, in catalogue order (each per_type effect's shared one,
+/// then its types' in their names' order).
 std::vector<std::string> active_extensions(const ModelExtensions& ext);
 /// "name: key=value unit, ..." for people.
 std::string describe_extension(const ModelExtensions& ext, const std::string& name);

@@ -63,17 +63,10 @@ void AirForceParameters::validate() const {
   check(std::isfinite(field_scale) && field_scale > 0, "field_scale (expected > 0)", field_scale);
   check(std::isfinite(flow_deflection_rad) && std::abs(flow_deflection_rad) <= kPi / 2,
         "flow_deflection_rad (expected [-pi/2, pi/2])", flow_deflection_rad);
-  check(std::isfinite(quadratic_drag_per_m) && quadratic_drag_per_m >= 0,
-        "quadratic_drag_per_m (expected >= 0)", quadratic_drag_per_m);
   check(std::isfinite(extra_push_mps2) && extra_push_mps2 >= 0, "extra_push_mps2 (expected >= 0)",
         extra_push_mps2);
   check(std::isfinite(extra_push_length_m) && extra_push_length_m > 0,
         "extra_push_length_m (expected > 0)", extra_push_length_m);
-  check(std::isfinite(lift_per_weight_s2pm2) && lift_per_weight_s2pm2 >= 0,
-        "lift_per_weight_s2pm2 (expected >= 0)", lift_per_weight_s2pm2);
-  check(
-      std::isfinite(drag_intercept_share) && drag_intercept_share >= 0 && drag_intercept_share < 1,
-      "drag_intercept_share (expected [0, 1))", drag_intercept_share);
 }
 
 AirForces::AirForces(const AirForceParameters& params, const SceneParameters& scene,
@@ -111,12 +104,15 @@ AirForces::AirForces(const AirForceParameters& params, const SceneParameters& sc
     p.tangent_speed = 0.0;
     p.intercept_force = 0.0;
     p.unload_share = 0.0;
-    const double share = params_.drag_intercept_share;
+    p.extra_quadratic = t.extra_quadratic_drag_per_m;
+    p.extra_lift = t.extra_lift_s2pm2;
+    any_unload_ = any_unload_ || t.drag_intercept_share > 0.0;
+    const double share = t.drag_intercept_share;
     if (share > 0.0) {
       // linearised_drag: eq. (8)'s law read as the tangent of a quadratic drag.
       if (p.physical) {
         throw InputError(
-            "air-force parameters: drag_intercept_share (linearised_drag) bends "
+            "object parameters: drag_intercept_share (linearised_drag) bends "
             "eq. (8)'s linear drag; object '" +
             obj.id + "' (" + object_type_name(obj.type) +
             ") has the physical drag law, quadratic already");
@@ -266,8 +262,7 @@ void AirForces::run(const mjModel* m, mjData* d, bool reference) noexcept {
   // No air, a level floor and the contacts' own friction: nothing to do (the holding force
   // opposes air and slope only).
   const bool air = (field_ != nullptr || cfd_ != nullptr) && jet_level_ > 0.0;
-  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0 &&
-      params_.drag_intercept_share == 0.0) {
+  if (!air && m->opt.gravity[0] == 0.0 && m->opt.gravity[1] == 0.0 && !any_unload_) {
     // Nothing pulls: every object will stick once the air is back (a sliding one stops within
     // a step or two of kinetic friction anyway, and is released again by its speed).
     for (PerObject& po : per_object_) po.pull = po.speed = 0.0;
@@ -356,8 +351,6 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
                             std::sqrt(2.0 * std::exp(1.0)) / params_.extra_push_length_m;
   const double i_near = params_.turbulence_near, i_far = params_.turbulence_far;
   const double lt2 = params_.turbulence_length_m * params_.turbulence_length_m;
-  const double c_quadratic = params_.quadratic_drag_per_m;
-  const double lift_per_weight = params_.lift_per_weight_s2pm2 * g_normal;  // k g (s^2/m^2 m/s^2)
 
   // Every body's centre of mass and velocity, and the mean air velocity there, in one batch.
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -491,13 +484,13 @@ void AirForces::compute_forces(const mjModel* m, const mjData* d, bool air) {
         // eq. (8) as physics: F = c (k u - v).
         f = w * po.drag_coefficient * (po.air_gain * u - v);
       }
-      if (c_quadratic > 0.0) {
+      if (po.extra_quadratic > 0.0) {
         const Eigen::Vector2d u_rel = u - v;
-        f += w * obj.mass_kg * c_quadratic * u_rel.norm() * u_rel;
+        f += w * obj.mass_kg * po.extra_quadratic * u_rel.norm() * u_rel;
       }
-      if (lift_per_weight > 0.0) {
+      if (po.extra_lift > 0.0) {
         // The air_lift effect: the fraction k |u_rel|^2 of the body's share of the weight.
-        const double lift = w * obj.mass_kg * lift_per_weight * (u - v).squaredNorm();
+        const double lift = w * obj.mass_kg * po.extra_lift * g_normal * (u - v).squaredNorm();
         lift_body_[col] += lift;
         lift_total += lift;
       }

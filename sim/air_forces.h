@@ -119,19 +119,10 @@ struct AirForceParameters {
   // Effects (sim/effects.h), neutral by default.
   double field_scale = 1.0;           ///< factor f on the air speed (> 0)
   double flow_deflection_rad = 0.0;   ///< mean air velocity turned by this (rad, CCW +)
-  double quadratic_drag_per_m = 0.0;  ///< C_q (1/m): extra a = C_q |u_rel| u_rel
   double extra_push_mps2 = 0.0;       ///< A (m/s^2): peak of the extra radial push
   double extra_push_length_m = 0.15;  ///< l (m): its decay length (peak at l / sqrt(2))
-  /// k (s^2/m^2): an upward lift k m_o g |u_rel|^2 on each object (by area share), under either
-  /// drag law and on top of the physical law's own: its contact, so its friction, falls by the
-  /// fraction k |u_rel|^2.
-  double lift_per_weight_s2pm2 = 0.0;
-  /// share s in [0, 1) (0: off): under eq. (8)'s law each object's drag c (k u - v) = c w becomes
-  /// the quadratic (c / 2 w0) |w| w that it is the tangent of at |w| = w0 = 2 s mu_k g / c, less
-  /// the tangent's intercept s mu_k g along w for |w| >= w0, and its contact carries 1 - s of its
-  /// weight, so its friction is (1 - s) mu_k m g (the linearised_drag effect). InputError for an
-  /// object under the physical law.
-  double drag_intercept_share = 0.0;
+  // The objects' own effects (quadratic_drag, air_lift, linearised_drag) are their types'
+  // (ObjectTypeParameters, sim/scene_spec.h).
 
   /// No turbulence, no pressure push: the deterministic drag of eq. (8) only.
   static AirForceParameters none();
@@ -207,6 +198,8 @@ class AirForces {
     double tangent_speed;     // w0 (m/s) of linearised_drag, 0: off
     double intercept_force;   // m_o c_o w0 / 2 (N): the tangent's intercept as a force
     double unload_share;      // the share of the weight the contact is unloaded by
+    double extra_quadratic;   // quadratic_drag's C_q (1/m)
+    double extra_lift;        // air_lift's k (s^2/m^2)
     double pressure_volume;   // V_o (m^3)
     double extra_static;      // (mu_s - mu_k) m_o (kg)
     double kinetic;           // mu_k m_o (kg), times g gives the kinetic friction
@@ -245,6 +238,7 @@ class AirForces {
   std::vector<const OrientedRays*> object_rays_;
   std::vector<Eigen::Vector2d> object_departure_;  // per object (set_object_air_departure)
   bool any_object_air_ = false;
+  bool any_unload_ = false;  // some object has linearised_drag (its contact unloaded in still air)
   double jet_level_ = 0.0;
   double timestep_s_ = 0.0;
   double ou_decay_ = 0.0, ou_kick_ = 0.0;  // eta <- decay eta + kick N(0, 1), the analytical air's

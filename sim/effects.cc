@@ -63,6 +63,11 @@ Effect parse_effect(const std::string& text) {
   }
   const EffectSpec& spec =
       located(where, [&]() -> const EffectSpec& { return find_effect(effect.name); });
+  const std::string type = effect_object_type(effect.name);
+  if (!type.empty() && type != object_type_name(ObjectType::kTracer) &&
+      type != object_type_name(ObjectType::kCotton)) {
+    throw InputError(where + ": unknown object type '" + type + "' (expected tracer or cotton)");
+  }
   if (colon != std::string::npos) {
     // key=value pairs, comma-separated; every value a whole finite number.
     const std::string list = text.substr(colon + 1);
@@ -123,6 +128,19 @@ std::string effect_to_string(const Effect& effect) {
 void apply_effect(const Effect& effect, TwinParameters* params) {
   AIRTWIN_DEMAND(params != nullptr);
   const std::vector<double> v = resolve(effect);
+  // An object's own effect acts on its type's objects (NAME@TYPE) or on every type's (NAME).
+  std::vector<ObjectTypeParameters*> types;
+  const std::string type = effect_object_type(effect.name);
+  if (type.empty() || type == object_type_name(ObjectType::kTracer)) {
+    types.push_back(&params->scene.tracer);
+  }
+  if (type.empty() || type == object_type_name(ObjectType::kCotton)) {
+    types.push_back(&params->scene.cotton);
+  }
+  if (types.empty()) {
+    throw InputError("effect " + effect.name + ": unknown object type '" + type +
+                     "' (expected tracer or cotton)");
+  }
   // Each effect sets the SI fields that carry it (sim/air_forces.h, nozzle_actuator.h,
   // scene_spec.h); degrees are converted here, at the edge.
   switch (find_effect(effect.name).id) {
@@ -137,7 +155,7 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
       params->air.flow_deflection_rad = deg_to_rad(v[0]);
       return;
     case EffectId::kQuadraticDrag:
-      params->air.quadratic_drag_per_m = v[0];
+      for (ObjectTypeParameters* t : types) t->extra_quadratic_drag_per_m = v[0];
       return;
     case EffectId::kFloorSlope:
       params->scene.floor_slope_rad = deg_to_rad(v[0]);
@@ -166,10 +184,10 @@ void apply_effect(const Effect& effect, TwinParameters* params) {
       params->analytical_air_transport = true;
       return;
     case EffectId::kAirLift:
-      params->air.lift_per_weight_s2pm2 = v[0];
+      for (ObjectTypeParameters* t : types) t->extra_lift_s2pm2 = v[0];
       return;
     case EffectId::kLinearisedDrag:
-      params->air.drag_intercept_share = v[0];
+      for (ObjectTypeParameters* t : types) t->drag_intercept_share = v[0];
       return;
   }
   AIRTWIN_DEMAND(false);
@@ -183,7 +201,13 @@ void apply_effects(const std::vector<Effect>& effects, TwinParameters* params) {
                        e.name + ":key=value,...");
     }
   }
-  for (const Effect& e : effects) apply_effect(e, params);
+  // Every type's effects first, then one type's own on top (NAME@TYPE replaces NAME for it).
+  for (const Effect& e : effects) {
+    if (effect_object_type(e.name).empty()) apply_effect(e, params);
+  }
+  for (const Effect& e : effects) {
+    if (!effect_object_type(e.name).empty()) apply_effect(e, params);
+  }
 }
 
 std::string effect_help() {

@@ -12,8 +12,8 @@
 //   response_delay     nozzle.response_delay_s += tau_s (on top of the free jet's transit,
 //                      nozzle.field_delay_s).
 //   flow_deflection    air.flow_deflection_rad: the mean air turned from radial, same speed.
-//   quadratic_drag     air.quadratic_drag_per_m: C |u_rel| u_rel (1/2 rho C_d A / m of a tracer
-//                      is ~0.6 1/m).
+//   quadratic_drag     scene.{tracer,cotton}.extra_quadratic_drag_per_m: C |u_rel| u_rel
+//                      (1/2 rho C_d A / m of a tracer is ~0.6 1/m).
 //   floor_slope        scene.floor_slope_rad, scene.floor_slope_direction_rad.
 //   stiction           scene.{tracer,cotton}.static_friction_ratio (replaces 1.0 under eq. (8)'s
 //                      law; the physical law's calibrated 1.4 and 1.3).
@@ -21,12 +21,15 @@
 //                      recorded command stays the command.
 //   field_scale        air.field_scale: mean air and turbulence times factor.
 //   transport_lag      air_transport.front_speed_mps = 1 / pace (analytical transport).
-//   air_lift           air.lift_per_weight_s2pm2: an upward lift k m g |u_rel|^2 on each
-//                      object, which unloads its contact (1/2 rho C_L A_base / (m g) of a tracer
-//                      with C_L 0.2 is ~0.054 s^2/m^2).
-//   linearised_drag    air.drag_intercept_share: eq. (8)'s drag read as the tangent of a
-//                      quadratic drag whose intercept is this share of the friction, taken from
-//                      it (eq. (8)'s law only: the physical law's drag is quadratic).
+//   air_lift           scene.{tracer,cotton}.extra_lift_s2pm2: an upward lift k m g |u_rel|^2
+//                      on each object, which unloads its contact (1/2 rho C_L A_base / (m g) of a
+//                      tracer with C_L 0.2 is ~0.054 s^2/m^2).
+//   linearised_drag    scene.{tracer,cotton}.drag_intercept_share: eq. (8)'s drag read as the
+//                      tangent of a quadratic drag whose intercept is this share of the friction,
+//                      taken from it (eq. (8)'s law only: the physical law's drag is quadratic).
+//
+// The last three are the objects' own (the catalogue's per_type effects): "NAME@TYPE" sets them
+// for one type ("linearised_drag@tracer:intercept_share=0.45"), on top of any "NAME" for all.
 
 #include <string>
 #include <utility>
@@ -43,8 +46,9 @@ struct Effect {
   std::vector<std::pair<std::string, double>> params;
 };
 
-/// Parses "NAME" (all defaults) or "NAME:key=value,key=value". Throws InputError naming the text,
-/// the effect and the parameter: an unknown effect (listing the valid names), an unknown or
+/// Parses "NAME" (all defaults) or "NAME:key=value,key=value", NAME an effect or, for an object's
+/// own, EFFECT@TYPE. Throws InputError naming the text, the effect and the parameter: an unknown
+/// effect (listing the valid names) or object type, a type on a rig's effect, an unknown or
 /// repeated parameter (listing the effect's parameters), a value that is not a finite number, or
 /// one outside its range (stating the range and unit).
 Effect parse_effect(const std::string& text);
@@ -61,7 +65,8 @@ std::string effect_to_string(const Effect& effect);
 /// fields it sets are listed in docs/twin.md; effects of different names combine.
 void apply_effect(const Effect& effect, TwinParameters* params);
 
-/// Applies each effect in order; throws InputError when one name appears twice.
+/// Applies the effects for every type in order, then those of one type (EFFECT@TYPE) in order;
+/// throws InputError when one name appears twice.
 void apply_effects(const std::vector<Effect>& effects, TwinParameters* params);
 
 /// One line per effect: name, parameters with units, defaults and ranges, and what it does.

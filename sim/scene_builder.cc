@@ -65,6 +65,20 @@ void validate_type_parameters(const ObjectTypeParameters& p, const std::string& 
     throw InputError("scene parameters: " + name + ".static_friction_ratio must be >= 1, got " +
                      num(p.static_friction_ratio));
   }
+  if (!(std::isfinite(p.extra_quadratic_drag_per_m) && p.extra_quadratic_drag_per_m >= 0)) {
+    throw InputError("scene parameters: " + name +
+                     ".extra_quadratic_drag_per_m must be >= 0, got " +
+                     num(p.extra_quadratic_drag_per_m));
+  }
+  if (!(std::isfinite(p.extra_lift_s2pm2) && p.extra_lift_s2pm2 >= 0)) {
+    throw InputError("scene parameters: " + name + ".extra_lift_s2pm2 must be >= 0, got " +
+                     num(p.extra_lift_s2pm2));
+  }
+  if (!(std::isfinite(p.drag_intercept_share) && p.drag_intercept_share >= 0 &&
+        p.drag_intercept_share < 1)) {
+    throw InputError("scene parameters: " + name + ".drag_intercept_share must be in [0, 1), got " +
+                     num(p.drag_intercept_share));
+  }
   if (!(std::isfinite(p.air_gain) && p.air_gain >= 0)) {
     throw InputError("scene parameters: " + name + ".air_gain must be >= 0, got " +
                      num(p.air_gain));

@@ -79,6 +79,19 @@ struct ObjectTypeParameters {
   /// C_L of the physical law's lift, on the footprint area pi (diameter / 2)^2 (dimensionless).
   double lift_coefficient = 0.0;
 
+  // Effects on objects of this type (sim/effects.h: NAME or NAME@TYPE), off by default.
+  /// quadratic_drag's C_q (1/m): an extra acceleration C_q |u_rel| u_rel, under either law.
+  double extra_quadratic_drag_per_m = 0.0;
+  /// air_lift's k (s^2/m^2): an upward lift k m g |u_rel|^2 (by area share), under either law and
+  /// on top of the physical law's own: the contact, so the friction, falls by k |u_rel|^2.
+  double extra_lift_s2pm2 = 0.0;
+  /// linearised_drag's share s in [0, 1) (0: off): under eq. (8)'s law the drag c (k u - v) = c w
+  /// becomes the quadratic (c / 2 w0) |w| w that it is the tangent of at |w| = w0 =
+  /// 2 s mu_k g / c, less the tangent's intercept s mu_k g along w for |w| >= w0, and the contact
+  /// carries 1 - s of the weight, so the friction is (1 - s) mu_k m g. InputError under the
+  /// physical law.
+  double drag_intercept_share = 0.0;
+
   /// Switches to DragLaw::kPhysical and its friction (physical_kinetic_friction,
   /// physical_static_friction_ratio).
   void use_physical_drag();

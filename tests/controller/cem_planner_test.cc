@@ -116,9 +116,12 @@ TEST_F(CemPlannerTest, ExtendedPlanningWithNothingAddedIsEquationTen) {
 
 // Extended planning with extensions: the cost is eq. (10) over ExtendedPredictor::predict, one
 // object at a time, under the command with the servo offset taken out, starting from the
-// previous command through the servos and the delays; the plan commands that compensated aim.
+// previous command through the servos and the delays, each object under its type's own effects;
+// the plan commands that compensated aim.
 TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
   ExtendedPlanning ext;
+  set_extension_values(&ext.extensions, "linearised_drag@tracer", {0.5});
+  set_extension_values(&ext.extensions, "air_lift@cotton", {0.05});
   ext.extensions.pan_offset_rad = deg_to_rad(6.0);
   ext.extensions.tilt_offset_rad = deg_to_rad(3.0);
   ext.extensions.extra_delay_s = 0.3;
@@ -128,6 +131,9 @@ TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
   const CemParameters params = CemParameters::line_defaults();
   const CemPlanner planner(model_, params, {}, ext);
   PlanningProblem pr = problem();
+  const std::vector<std::string> types = {"tracer", "tracer", "cotton"};
+  EXPECT_THROW(planner.cost(pr, Eigen::Vector2d(0.55, 0.0)), InputError);  // whose effects?
+  pr.types = types;
   const NozzleOrientation now{deg_to_rad(100.0), deg_to_rad(20.0)};
   pr.nozzle_now = now;
   const ExtendedPredictor reference(model_, ext.step_s);
@@ -143,8 +149,8 @@ TEST_F(CemPlannerTest, ExtendedPlanningPredictsTheCompensatedCommand) {
     for (size_t j = 0; j < 3; ++j) {
       std::vector<Eigen::Vector2d> end;
       const double times[] = {t_end};
-      reference.predict(xi_[j], ext.extensions, timeline, WindowStart{0.0, p_[j], v_[j]}, times,
-                        &end);
+      reference.predict(xi_[j], ext.extensions.for_type(types[j]), timeline,
+                        WindowStart{0.0, p_[j], v_[j]}, times, &end);
       expected += (end[0] - r_[j]).norm();
     }
     std::vector<Eigen::Vector2d> ends;

@@ -86,6 +86,61 @@ TEST(ModelExtensions, EveryEffectMapsBothWays) {
     EXPECT_EQ(active_extensions(ext), std::vector<std::string>{e.name});
     EXPECT_DOUBLE_EQ(extension_size(ext, e.name), effect_size(e, typed));
     EXPECT_NO_THROW(ext.validate());
+    if (!e.per_type) continue;
+    // One type's own: that type feels it, another does not, the shared one is untouched.
+    const std::string own = std::string(e.name) + "@cotton";
+    ModelExtensions typed_ext;
+    set_extension_values(&typed_ext, own, typed);
+    EXPECT_FALSE(extension_active(typed_ext, e.name));
+    EXPECT_TRUE(extension_active(typed_ext, own));
+    EXPECT_EQ(active_extensions(typed_ext), std::vector<std::string>{own});
+    EXPECT_EQ(extension_values(typed_ext.for_type("cotton"), e.name), back);
+    EXPECT_FALSE(extension_active(typed_ext.for_type("tracer"), e.name));
+    EXPECT_TRUE(typed_ext.for_type("cotton").object_by_type.empty());
+    // Switched off again: no entry is left (one model, one written form).
+    std::vector<double> off;
+    for (const EffectParameter& p : e.params) off.push_back(p.off);
+    set_extension_values(&typed_ext, own, off);
+    EXPECT_TRUE(typed_ext.object_by_type.empty());
+  }
+}
+
+// The objects' own effects per type, and the rig's only shared: which effect is which is the
+// catalogue's (an effect of the air or the nozzle acts on every object alike).
+TEST(ModelExtensions, AnObjectsOwnEffectMayDifferPerType) {
+  std::vector<std::string> per_type;
+  for (const EffectSpec& e : effect_catalogue()) {
+    if (e.per_type) per_type.push_back(e.name);
+  }
+  EXPECT_EQ(per_type, (std::vector<std::string>{"quadratic_drag", "air_lift", "linearised_drag"}));
+  ModelExtensions ext;
+  set_extension_values(&ext, "linearised_drag", {0.3});
+  set_extension_values(&ext, "linearised_drag@tracer", {0.5});
+  set_extension_values(&ext, "air_lift@cotton", {0.02});
+  EXPECT_EQ(active_extensions(ext), (std::vector<std::string>{"air_lift@cotton", "linearised_drag",
+                                                              "linearised_drag@tracer"}));
+  // A type's own replaces the shared one for it; an effect it does not have stays shared.
+  EXPECT_EQ(ext.object_for("tracer").drag_intercept_share, 0.5);
+  EXPECT_EQ(ext.object_for("cotton").drag_intercept_share, 0.3);
+  EXPECT_EQ(ext.object_for("cotton").lift_s2_per_m2, 0.02);
+  EXPECT_EQ(ext.object_for("tracer").lift_s2_per_m2, 0.0);
+  EXPECT_EQ(ext.object_for("glass").drag_intercept_share, 0.3);
+  for (const char* bad : {"field_scale@tracer", "linearised_drag@", "linearised_drag@a b"}) {
+    EXPECT_THROW(set_extension_values(&ext, bad, {1.0}), InputError) << bad;
+  }
+  try {
+    set_extension_values(&ext, "linearised_drag@tracer", {0.99});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("linearised_drag.intercept_share"), std::string::npos)
+        << e.what();
+  }
+  ext.object_by_type["tracer"].drag_intercept_share = 2.0;
+  try {
+    ext.validate();
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("linearised_drag@tracer"), std::string::npos) << e.what();
   }
 }
 

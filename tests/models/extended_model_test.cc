@@ -16,6 +16,8 @@ ExtendedModel example() {
   m.nozzle.transit_delay_s = 0.25;
   set_extension_values(&m.extensions, "field_scale", {1.2});
   set_extension_values(&m.extensions, "floor_slope", {3.0, -45.0});
+  m.objects["cotton"] = kCottonDynamics;
+  set_extension_values(&m.extensions, "linearised_drag@tracer", {0.45});
   m.source = "data.csv";
   return m;
 }
@@ -30,7 +32,9 @@ TEST(ExtendedModel, RoundTripsItsJson) {
   EXPECT_DOUBLE_EQ(back.extensions.field_scale, 1.2);
   EXPECT_NEAR(back.extensions.slope_direction_rad, deg_to_rad(-45.0), 1e-15);
   EXPECT_EQ(active_extensions(back.extensions),
-            (std::vector<std::string>{"floor_slope", "field_scale"}));
+            (std::vector<std::string>{"floor_slope", "field_scale", "linearised_drag@tracer"}));
+  EXPECT_EQ(back.extensions.object_for("tracer").drag_intercept_share, 0.45);
+  EXPECT_EQ(back.extensions.object_for("cotton").drag_intercept_share, 0.0);
   EXPECT_EQ(extended_model_json(back), text);
 }
 
@@ -55,8 +59,16 @@ TEST(ExtendedModel, BadFilesNameWhatIsWrong) {
   t.replace(t.find("\"factor\": 1.2"), 13, "\"factor\": -1");
   EXPECT_NE(error_of(t).find("field_scale.factor"), std::string::npos) << error_of(t);
   t = good;
+  t.replace(t.find("linearised_drag@tracer"), 22, "linearised_drag@glass");
+  EXPECT_NE(error_of(t).find("extensions.linearised_drag@glass: no object type 'glass'"),
+            std::string::npos)
+      << error_of(t);
+  t = good;
+  t.replace(t.find("linearised_drag@tracer"), 22, "field_scale@tracer");
+  EXPECT_NE(error_of(t).find("field_scale acts on the rig"), std::string::npos) << error_of(t);
+  t = good;
   t.replace(t.find("\"xi2\""), 5, "\"xj2\"");
-  EXPECT_NE(error_of(t).find("objects.tracer: missing key 'xi2'"), std::string::npos)
+  EXPECT_NE(error_of(t).find("objects.cotton: missing key 'xi2'"), std::string::npos)
       << error_of(t);
 }
 

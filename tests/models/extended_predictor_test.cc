@@ -123,7 +123,7 @@ TEST(ExtendedPredictor, QuadraticDragPushAndScaleAlongARay) {
                                                                {0.9, 0.5, 6.0, 0.1}}) {
     ModelExtensions ext;
     ext.field_scale = f;
-    ext.quadratic_drag_per_m = c;
+    ext.object.quadratic_drag_per_m = c;
     ext.push_strength_mps2 = A;
     ext.push_length_m = l;
     const double r0 = 0.25;
@@ -147,8 +147,8 @@ TEST(ExtendedPredictor, AirLiftUnloadsTheFrictionAlongARay) {
       (predict(kTracerDynamics, {}, settled(kO), p0, kAtRest, {t_end})[0] - s).norm();
   for (const auto& [k, c] : std::vector<std::pair<double, double>>{{0.05, 0.0}, {0.1, 0.5}}) {
     ModelExtensions ext;
-    ext.lift_s2_per_m2 = k;
-    ext.quadratic_drag_per_m = c;
+    ext.object.lift_s2_per_m2 = k;
+    ext.object.quadratic_drag_per_m = c;
     const std::vector<Eigen::Vector2d> ours =
         predict(kTracerDynamics, ext, settled(kO), p0, kAtRest, {t_end});
     const double r_ref = ray_reference(kTracerDynamics, 1.0, c, 0.0, 0.15, r0, s, e, of, t_end, k);
@@ -167,8 +167,8 @@ TEST(ExtendedPredictor, AirLiftUnloadsTheFrictionAlongARay) {
   const Eigen::Vector2d held = s + r * e;
   EXPECT_EQ(predict(xi, {}, settled(kO), held, kAtRest, {1.0})[0], held);
   ModelExtensions weak, strong;
-  weak.lift_s2_per_m2 = 0.05 / (u * u);    // leaves 95 % of the friction: still held
-  strong.lift_s2_per_m2 = 0.25 / (u * u);  // leaves 75 %: starts
+  weak.object.lift_s2_per_m2 = 0.05 / (u * u);    // leaves 95 % of the friction: still held
+  strong.object.lift_s2_per_m2 = 0.25 / (u * u);  // leaves 75 %: starts
   EXPECT_EQ(predict(xi, weak, settled(kO), held, kAtRest, {1.0})[0], held);
   EXPECT_GT((predict(xi, strong, settled(kO), held, kAtRest, {1.0})[0] - held).norm(), 0.005);
 }
@@ -187,8 +187,8 @@ TEST(ExtendedPredictor, LinearisedDragBendsTheDragAndLightensTheFrictionAlongARa
   // balances the friction): only a tangent beyond it, a share above 1/2, bends the slide.
   for (const auto& [share, k] : std::vector<std::pair<double, double>>{{0.55, 0.0}, {0.62, 0.03}}) {
     ModelExtensions ext;
-    ext.drag_intercept_share = share;
-    ext.lift_s2_per_m2 = k;
+    ext.object.drag_intercept_share = share;
+    ext.object.lift_s2_per_m2 = k;
     const double ours =
         (predict(kTracerDynamics, ext, settled(kO), p0, kAtRest, {t_end})[0] - s).norm();
     const double r_ref =
@@ -206,13 +206,13 @@ TEST(ExtendedPredictor, LinearisedDragBendsTheDragAndLightensTheFrictionAlongARa
   double coast[2];
   for (int bent = 0; bent < 2; ++bent) {
     ModelExtensions ext;
-    ext.drag_intercept_share = bent ? 0.5 : 0.0;
+    ext.object.drag_intercept_share = bent ? 0.5 : 0.0;
     coast[bent] =
         (predict(kTracerDynamics, ext, settled(kO), launched, 1.0 * e, {1.0})[0] - s).norm() -
         r_far;
     const double r_ref = ray_reference(kTracerDynamics, 1.0, 0.0, 0.0, 0.15, r_far, s, e, of, 1.0,
-                                       0.0, ext.drag_intercept_share, 1.0);
-    EXPECT_NEAR(coast[bent], r_ref - r_far, 2e-3) << "share " << ext.drag_intercept_share;
+                                       0.0, ext.object.drag_intercept_share, 1.0);
+    EXPECT_NEAR(coast[bent], r_ref - r_far, 2e-3) << "share " << ext.object.drag_intercept_share;
   }
   std::printf("coast from 1 m/s at 2.5 m: eq. (8) %.1f cm, bent at share 0.5 %.1f cm\n",
               coast[0] * 100, coast[1] * 100);
@@ -347,25 +347,31 @@ TEST(ExtendedPredictor, SlopePullsAMovingObjectDownhill) {
 }
 
 // predict_ends (all objects in lockstep, what the controller plans with) against predict (one
-// object at a time): the same numbers, under every extension at once and a moving nozzle.
+// object at a time): the same numbers, under every extension at once, each type with its own
+// object effects, and a moving nozzle.
 TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
   ModelExtensions ext;
   ext.push_strength_mps2 = 8.0;
   ext.push_length_m = 0.2;
   ext.extra_delay_s = 0.1;
   ext.deflection_rad = deg_to_rad(8.0);
-  ext.quadratic_drag_per_m = 0.5;
+  ext.object.quadratic_drag_per_m = 0.5;
   ext.slope_rad = deg_to_rad(2.0);
   ext.slope_direction_rad = deg_to_rad(60.0);
   ext.static_friction_ratio = 1.4;
   ext.pan_offset_rad = deg_to_rad(3.0);
   ext.tilt_offset_rad = deg_to_rad(2.0);
   ext.field_scale = 1.1;
+  ext.object_by_type["tracer"].drag_intercept_share = 0.4;
+  ext.object_by_type["cotton"].lift_s2_per_m2 = 0.03;
   const NozzleTimeline timeline(NozzleResponseParameters{},
                                 {{-1.0, {0.3, deg_to_rad(10.0)}}, {0.0, {-0.8, deg_to_rad(25.0)}}},
                                 3.0);
   const std::vector<ObjectDynamics> xi = {kTracerDynamics, kCottonDynamics, kTracerDynamics,
                                           kCottonDynamics};
+  const std::vector<std::string> types = {"tracer", "cotton", "tracer", "cotton"};
+  std::vector<ObjectExtensions> own;
+  for (const std::string& t : types) own.push_back(ext.object_for(t));
   const std::vector<WindowStart> starts = {{0.0, {0.5, 0.2}, {0.0, 0.0}},
                                            {0.0, {-0.3, -0.6}, {0.1, -0.2}},
                                            {0.0, {0.05, 0.7}, {0.0, 0.0}},
@@ -376,11 +382,11 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
     ext.transport_pace_s_per_m = pace;
     for (double t_end : {0.0, 0.0013, 0.7, 1.7}) {
       std::vector<Eigen::Vector2d> ends(starts.size());
-      predictor.predict_ends(xi, ext, timeline, starts, t_end, ends);
+      predictor.predict_ends(xi, ext, own, timeline, starts, t_end, ends);
       for (size_t j = 0; j < starts.size(); ++j) {
         std::vector<Eigen::Vector2d> one;
         const double times[] = {t_end};
-        predictor.predict(xi[j], ext, timeline, starts[j], times, &one);
+        predictor.predict(xi[j], ext.for_type(types[j]), timeline, starts[j], times, &one);
         EXPECT_EQ(ends[j], one[0]) << "object " << j << " at " << t_end << " s, pace " << pace;
       }
       if (t_end > 1.0) {
@@ -391,8 +397,16 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
   std::vector<Eigen::Vector2d> two(2);
   const std::vector<WindowStart> apart = {{0.0, {0.5, 0.2}, {0.0, 0.0}},
                                           {0.1, {0.5, 0.2}, {0.0, 0.0}}};
-  EXPECT_THROW(predictor.predict_ends({xi.data(), 2}, ext, timeline, apart, 1.0, two), InputError);
-  EXPECT_THROW(predictor.predict_ends(xi, ext, timeline, starts, 1.0, two), InputError);
+  EXPECT_THROW(
+      predictor.predict_ends({xi.data(), 2}, ext, {own.data(), 2}, timeline, apart, 1.0, two),
+      InputError);
+  EXPECT_THROW(predictor.predict_ends(xi, ext, own, timeline, starts, 1.0, two), InputError);
+  // A type's own effects are never dropped: the predictor refuses them unresolved.
+  std::vector<Eigen::Vector2d> four(starts.size());
+  EXPECT_THROW(predictor.predict_ends(xi, ext, {}, timeline, starts, 1.0, four), InputError);
+  std::vector<Eigen::Vector2d> one;
+  const double times[] = {1.0};
+  EXPECT_THROW(predictor.predict(xi[0], ext, timeline, starts[0], times, &one), InputError);
 }
 
 TEST(ExtendedPredictor, RejectsBadInput) {

@@ -275,15 +275,18 @@ TEST(AirForces, EffectTermsFollowTheirLaws) {
   const OrientedField field = field_model.at({0.0, 0.0});  // s at the origin
   const Eigen::Vector2d p(0.3, 0.1), v(0.2, -0.1);
   const double jet = 0.9;
-  auto acceleration = [&](const AirForceParameters& params) {
+  auto acceleration_in = [&](const AirForceParameters& params, const SceneParameters& in) {
     Floating f;
-    AirForces air(params, scene, {f.object}, 1, 0.001);
+    AirForces air(params, in, {f.object}, 1, 0.001);
     air.set_air(field, jet);
     f.data->qvel[0] = v.x();
     f.data->qvel[1] = v.y();
     AirForcesScope scope(f.model.get(), &air);
     mj_forward(f.model.get(), f.data.get());
     return planar_acceleration(f.data.get());
+  };
+  auto acceleration = [&](const AirForceParameters& params) {
+    return acceleration_in(params, scene);
   };
   auto drag = [&](const Eigen::Vector2d& u) { return t.drag_rate_per_s * (t.air_gain * u - v); };
   const Eigen::Vector2d u = jet * field.velocity(p);
@@ -298,10 +301,14 @@ TEST(AirForces, EffectTermsFollowTheirLaws) {
   params = AirForceParameters::none();
   params.flow_deflection_rad = 0.35;
   EXPECT_TRUE(near(acceleration(params), drag(Eigen::Rotation2Dd(0.35) * u)));
-  // quadratic_drag: + C |u - v| (u - v).
+  // quadratic_drag (the tracer type's): + C |u - v| (u - v); a cotton wad's leaves it alone.
   params = AirForceParameters::none();
-  params.quadratic_drag_per_m = 0.7;
-  EXPECT_TRUE(near(acceleration(params), drag(u) + 0.7 * (u - v).norm() * (u - v)));
+  SceneParameters quadratic = scene;
+  quadratic.tracer.extra_quadratic_drag_per_m = 0.7;
+  EXPECT_TRUE(near(acceleration_in(params, quadratic), drag(u) + 0.7 * (u - v).norm() * (u - v)));
+  quadratic = scene;
+  quadratic.cotton.extra_quadratic_drag_per_m = 0.7;
+  EXPECT_TRUE(near(acceleration_in(params, quadratic), drag(u)));
   // pressure_gradient: + J^2 A sqrt(2e) (r / l) exp(-(r / l)^2) radially; its peak is A.
   params = AirForceParameters::none();
   params.extra_push_mps2 = 5.0;
@@ -330,10 +337,11 @@ TEST(AirForces, FastPathMatchesMjApplyFT) {
   for (int i = 0; i < m->nv; ++i) d->qvel[i] = 0.002 * std::sin(1.0 + 0.7 * i);
   mj_forward(m, d.get());  // no scope registered: no air in qfrc_passive yet
 
+  scene.tracer.extra_quadratic_drag_per_m = 0.5;
+  scene.cotton.extra_quadratic_drag_per_m = 0.3;
   AirForceParameters params;
   params.field_scale = 1.2;
   params.flow_deflection_rad = 0.3;
-  params.quadratic_drag_per_m = 0.5;
   params.extra_push_mps2 = 4.0;
   const AirFieldModel field_model = AirFieldModel::with_constructed_table();
   const OrientedField field = field_model.at({0.4, 0.15});

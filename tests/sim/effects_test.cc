@@ -72,6 +72,12 @@ TEST(ParseEffect, UnknownNamesAndParametersListTheValidOnes) {
   expect_usage_error("stiction:", {"expected key=value", "ratio"});
   expect_usage_error("stiction:ratio", {"expected key=value", "ratio"});
   expect_usage_error("field_scale:factor=1,3", {"expected key=value", "got '3'"});
+  // An object type only on an object's own effect, and only a type the twin has.
+  expect_usage_error("field_scale@tracer:factor=1.3",
+                     {"field_scale acts on the rig", "without '@tracer'", "linearised_drag"});
+  expect_usage_error("linearised_drag@glass", {"unknown object type 'glass'", "tracer or cotton"});
+  expect_usage_error("air_lift@", {"air_lift@TYPE"});
+  EXPECT_EQ(parse_effect("air_lift@cotton:lift_s2_per_m2=0.1").name, "air_lift@cotton");
 }
 
 TEST(ParseEffect, ValuesMustBeFiniteNumbersInRange) {
@@ -139,15 +145,17 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
        parse_effect("quadratic_drag:coefficient=0.8"),
        parse_effect("floor_slope:angle_deg=3,direction_deg=90"), parse_effect("stiction:ratio=2.5"),
        parse_effect("nozzle_offset:pan_deg=-2"), parse_effect("field_scale:factor=1.3"),
-       parse_effect("transport_lag:pace_s_per_m=0.8"),
-       parse_effect("air_lift:lift_s2_per_m2=0.07")},
+       parse_effect("transport_lag:pace_s_per_m=0.8"), parse_effect("air_lift:lift_s2_per_m2=0.07"),
+       parse_effect("linearised_drag@tracer:intercept_share=0.3"),
+       parse_effect("linearised_drag:intercept_share=0.2")},
       &p);
   EXPECT_EQ(p.air.extra_push_mps2, 6.0);
   EXPECT_EQ(p.air.extra_push_length_m, 0.1);
   EXPECT_DOUBLE_EQ(p.nozzle.response_delay_s, nominal.nozzle.response_delay_s + 0.5);
   EXPECT_DOUBLE_EQ(p.nozzle.field_delay_s, nominal.nozzle.field_delay_s);
   EXPECT_DOUBLE_EQ(p.air.flow_deflection_rad, deg_to_rad(-30));
-  EXPECT_EQ(p.air.quadratic_drag_per_m, 0.8);
+  EXPECT_EQ(p.scene.tracer.extra_quadratic_drag_per_m, 0.8);  // an object's own: every type's
+  EXPECT_EQ(p.scene.cotton.extra_quadratic_drag_per_m, 0.8);
   EXPECT_DOUBLE_EQ(p.scene.floor_slope_rad, deg_to_rad(3));
   EXPECT_DOUBLE_EQ(p.scene.floor_slope_direction_rad, deg_to_rad(90));
   EXPECT_EQ(p.scene.tracer.static_friction_ratio, 2.5);
@@ -163,8 +171,12 @@ TEST(ApplyEffect, SetsTheDocumentedFieldsInSi) {
   EXPECT_EQ(p.air_transport.front_counter_flow, 0.0);
   EXPECT_TRUE(p.analytical_air_transport);
   EXPECT_FALSE(nominal.analytical_air_transport);
-  EXPECT_EQ(p.air.lift_per_weight_s2pm2, 0.07);
-  EXPECT_EQ(nominal.air.lift_per_weight_s2pm2, 0.0);
+  EXPECT_EQ(p.scene.tracer.extra_lift_s2pm2, 0.07);
+  EXPECT_EQ(p.scene.cotton.extra_lift_s2pm2, 0.07);
+  EXPECT_EQ(nominal.scene.tracer.extra_lift_s2pm2, 0.0);
+  // One type's own on top of every type's, whatever the order typed.
+  EXPECT_EQ(p.scene.tracer.drag_intercept_share, 0.3);
+  EXPECT_EQ(p.scene.cotton.drag_intercept_share, 0.2);
   // Nothing else moved.
   EXPECT_EQ(p.air.stagnation_pressure_pa, nominal.air.stagnation_pressure_pa);
   EXPECT_EQ(p.scene.tracer.kinetic_friction, nominal.scene.tracer.kinetic_friction);
