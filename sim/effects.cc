@@ -227,6 +227,7 @@ std::string effect_help() {
     line += ": " + std::string(e.twin) + "\n";
     out += line;
   }
+  out += "  " + per_type_effect_names() + ": NAME@TYPE (tracer, cotton) for one type's objects\n";
   return out;
 }
 

@@ -131,7 +131,8 @@ TEST(EffectCatalogue, OneLinePerEffectWithUnitsAndDefaults) {
                              "field_scale",
                              "factor=1.2",
                              "transport_lag",
-                             "pace_s_per_m=0.6 [0, 5] s/m"}) {
+                             "pace_s_per_m=0.6 [0, 5] s/m",
+                             "NAME@TYPE"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle << " missing from\n" << text;
   }
 }
