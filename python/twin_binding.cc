@@ -71,6 +71,22 @@ class PyTwin {
     return out;
   }
 
+  // N x 7: each object's root body as MuJoCo has it after the last step: its origin x, y, z (m,
+  // world frame: z above the floor; a tracer's origin is the centre of its flat face) and its
+  // orientation quaternion w, x, y, z (xpos, xquat).
+  py::array_t<double> poses() const {
+    const mjData* d = twin_.data();
+    const size_t n = twin_.object_count();
+    py::array_t<double> out({static_cast<py::ssize_t>(n), py::ssize_t{7}});
+    double* row = out.mutable_data();
+    for (size_t i = 0; i < n; ++i) {
+      const int b = twin_.object(i).root_body;
+      for (int k = 0; k < 3; ++k) *row++ = d->xpos[3 * b + k];
+      for (int k = 0; k < 4; ++k) *row++ = d->xquat[4 * b + k];
+    }
+    return out;
+  }
+
   // The top camera's frame of the current state, RGB (the renderer's BGR converted into the
   // returned array: one pass, no other copy). The renderer is made at the first call, on the
   // calling thread, which its OpenGL context belongs to.
@@ -231,6 +247,9 @@ void bind_twin(py::module_& m) {
           "Commands the nozzle (deg), advances duration_s (default one 40 Hz camera frame) and "
           "returns states().")
       .def("states", &PyTwin::states, "N x 4: x, y (m), vx, vy (m/s) of every object.")
+      .def("poses", &PyTwin::poses,
+           "N x 7: each object's root body in MuJoCo, its origin x, y, z (m; z above the floor, a "
+           "tracer's at its flat face) and its orientation quaternion w, x, y, z.")
       .def("render", &PyTwin::render, py::arg("frame_index") = 0,
            "The top camera's view now: H x W x 3 uint8, RGB, row 0 at the top.")
       .def_property_readonly("time_s", [](PyTwin& t) { return t.twin().time(); })

@@ -115,6 +115,24 @@ def test_reset_starts_over_to_the_last_bit():
     assert start.shape == (4, 4) and start.dtype == np.float64
 
 
+def test_poses_say_how_the_objects_sit():
+    # Settled tracers lie on their flat face: the root bodies at the states' x, y (a tracer is
+    # one body), their origins (the face's centre) on the floor within MuJoCo's soft contact's
+    # fraction of a millimetre, turned about z alone.
+    twin = airtwin.Twin(OCTAGON, 5, 30.0, 20.0, jet_on=False)
+    poses, states = twin.poses(), twin.states()
+    assert poses.shape == (4, 7) and poses.dtype == np.float64
+    np.testing.assert_allclose(poses[:, :2], states[:, :2], atol=1e-12)
+    assert np.max(np.abs(poses[:, 2])) < 1e-3
+    assert np.ptp(poses[:, 2]) < 1e-4
+    np.testing.assert_allclose(np.linalg.norm(poses[:, 3:], axis=1), 1.0, atol=1e-9)
+    assert np.max(np.abs(poses[:, 4:6])) < 0.01  # tilted by under ~1 deg
+    # The jet on them: they slide, and their poses follow.
+    twin.set_jet(True)
+    twin.advance_to(0.5)
+    np.testing.assert_allclose(twin.poses()[:, :2], twin.states()[:, :2], atol=1e-12)
+
+
 def test_twins_in_python_threads_step_as_they_do_alone():
     """The GIL is released while a twin steps: twins in threads run side by side, each as alone."""
     def run(seed, out):
