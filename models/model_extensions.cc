@@ -102,13 +102,14 @@ bool all_off(const ModelExtensions& x, const ObjectExtensions& o) {
 ObjectExtensions ModelExtensions::object_for(const std::string& type) const {
   const auto it = object_by_type.find(type);
   if (it == object_by_type.end()) return object;
-  ObjectExtensions out = object;
+  ModelExtensions out;  // a per_type effect's values go to `out.object` alone
+  out.object = object;
   for (const EffectSpec& e : effect_catalogue()) {
     if (!e.per_type) continue;
     const std::vector<double> own = typed_values(*this, it->second, e.id);
-    if (effect_size(e, own) > 0.0) set_values(nullptr, &out, e.id, own);
+    if (effect_size(e, own) > 0.0) set_values(&out, &out.object, e.id, own);
   }
-  return out;
+  return out.object;
 }
 
 ModelExtensions ModelExtensions::for_type(const std::string& type) const {
