@@ -12,7 +12,8 @@
 #      seed 202): objects pushed off under the idle nozzle coast to rest, the friction beyond the
 #      air, which the logs hold in few windows;
 #   4. `airtwin discrepancy` on the logs (and, as an experiment of their own, `coast=`, the
-#      launched trials): the causes the identified model lacks, fitted to them, written as one
+#      launched trials): the causes the identified model lacks, fitted to them (an object's own,
+#      such as linearised_drag, per type when the data hold both: NAME@TYPE), written as one
 #      extended model with both object types.
 # Writes OUT/{tracer,cotton}_identified.json, OUT/extended_model.json and the analysis in
 # OUT/discrepancy/; with --install also copies the three models to models/data/twin/, which the
