@@ -93,7 +93,8 @@ struct Scratch {
   Prediction prediction;
   // Extended planning.
   std::vector<WindowStart> window_start;
-  std::vector<ObjectExtensions> object_ext;
+  std::vector<ObjectExtensions> object_ext;  // each object its type's (worked out at the first)
+  bool object_ext_ready = false;
   std::vector<Eigen::Vector2d> end_W;
   // Transition: the sweep's schedule, and what every candidate of one decision shares (worked
   // out at the first): the objects' states as the transit under the command in force ends.
@@ -198,15 +199,19 @@ void predict_extended(const ExtendedPlanning& ext, const ExtendedPredictor& pred
     scratch.window_start[j] = WindowStart{0.0, pr.positions_W[j], pr.velocities_W[j]};
   }
   scratch.end_W.resize(m);
-  // Each object its type's own effects, when the model has effects per type.
-  scratch.object_ext.clear();
-  if (!ext.extensions.object_by_type.empty()) {
-    if (pr.types.size() != m) {
-      throw InputError(
-          "controller: the extended model has effects per object type, the objects no types");
+  // Each object its type's own effects, when the model has effects per type: the same for every
+  // candidate of the decision.
+  if (!scratch.object_ext_ready) {
+    scratch.object_ext.clear();
+    if (!ext.extensions.object_by_type.empty()) {
+      if (pr.types.size() != m) {
+        throw InputError(
+            "controller: the extended model has effects per object type, the objects no types");
+      }
+      for (const std::string& type : pr.types)
+        scratch.object_ext.push_back(ext.extensions.object_for(type));
     }
-    for (const std::string& type : pr.types)
-      scratch.object_ext.push_back(ext.extensions.object_for(type));
+    scratch.object_ext_ready = true;
   }
   predictor.predict_ends(pr.dynamics, ext.extensions, scratch.object_ext, timeline,
                          scratch.window_start, t_end, scratch.end_W);
