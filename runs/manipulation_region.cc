@@ -110,7 +110,7 @@ std::vector<RegionPush> plan_region(const RegionOptions& options, const NozzleGe
 }
 
 void predict_region(std::vector<RegionPush>* pushes, const CemPlanner& planner,
-                    const ObjectDynamics& xi) {
+                    const ObjectDynamics& xi, const std::string& type) {
   std::vector<Eigen::Vector2d> end;
   for (RegionPush& push : *pushes) {
     if (!push.reachable()) continue;
@@ -121,6 +121,7 @@ void predict_region(std::vector<RegionPush>* pushes, const CemPlanner& planner,
     problem.positions_W = std::span<const Eigen::Vector2d>(&position, 1);
     problem.velocities_W = std::span<const Eigen::Vector2d>(&velocity, 1);
     problem.dynamics = std::span<const ObjectDynamics>(&xi, 1);
+    problem.types = std::span<const std::string>(&type, 1);  // its own effects, when per type
     problem.references_W = std::span<const Eigen::Vector2d>(&reference, 1);
     problem.pan_hint_rad = push.orientation->pan_rad;
     planner.cost(problem, push.s_W, &end);
@@ -140,7 +141,7 @@ std::vector<RegionPush> model_region(const RegionOptions& options, const AirFiel
   params.horizon_s = options.horizon_s;
   const CemPlanner planner(planning, params, {}, run.planning_extensions);
   std::vector<RegionPush> pushes = plan_region(options, planning.geometry());
-  predict_region(&pushes, planner, xi->second);
+  predict_region(&pushes, planner, xi->second, options.object);
   return pushes;
 }
 

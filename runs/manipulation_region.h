@@ -95,9 +95,10 @@ double travel_along(const RegionPush& push, const Eigen::Vector2d& end_W);
 std::vector<RegionPush> plan_region(const RegionOptions& options, const NozzleGeometry& geometry);
 
 /// Sets model_end_W of every reachable push: `planner`'s prediction for one object of dynamics
-/// `xi` at rest at p, the nozzle at the push's orientation for the planner's horizon.
+/// `xi` and type `type` (which picks its own effects when the planner's model has them per type)
+/// at rest at p, the nozzle at the push's orientation for the planner's horizon.
 void predict_region(std::vector<RegionPush>* pushes, const CemPlanner& planner,
-                    const ObjectDynamics& xi);
+                    const ObjectDynamics& xi, const std::string& type);
 
 /// The pushes planned and judged by the model a closed-loop run with `run` plans with: its planning
 /// field (an extended model's scaled one, else `field`) places s, and its dynamics for the object

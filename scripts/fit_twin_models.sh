@@ -8,26 +8,26 @@
 #   2. closed-loop logs planned with them, at calibration seeds 101-105 (never the seeds the
 #      closed-loop figures are measured on): the line, the square, the letter A and the sorting
 #      (its plane search at Sigma0 50 cm^2, named below so the models do not follow the file);
-#   3. with --launched, launched trials of each type (`collect --protocol launched`, 100 each,
-#      seed 202): objects pushed off under the idle nozzle coast to rest, the friction beyond the
-#      air, which the logs hold in few windows;
-#   4. `airtwin discrepancy` on the logs (and, as an experiment of their own, `coast=`, the
-#      launched trials): the causes the identified model lacks, fitted to them (an object's own,
-#      such as linearised_drag, per type when the data hold both: NAME@TYPE), written as one
-#      extended model with both object types.
+#   3. launched trials of each type (`collect --protocol launched --launch-speed 0.3,1.0`, 100
+#      each, seed 202): objects pushed off under the idle nozzle coast to rest, the friction
+#      beyond the air, which the logs hold in few windows; at the speeds closed loop moves them
+#      (99 % of the logs' frames below 0.35 m/s), where the tracer's slide hardly chatters;
+#   4. `airtwin discrepancy` on the logs with the launched trials as an experiment of their own
+#      (`coast=`): the causes the identified model lacks, fitted to them (an object's own, such
+#      as linearised_drag, per type: NAME@TYPE), written as one extended model with both types.
 # Writes OUT/{tracer,cotton}_identified.json, OUT/extended_model.json and the analysis in
 # OUT/discrepancy/; with --install also copies the three models to models/data/twin/, which the
 # twin's commands plan with by default. Deterministic: the same binary gives the same bytes.
-# ~15 min on 2 cores.
+# ~25 min on 2 cores.
 #
-# --launched adds step 3 (docs/discrepancy.md, "Launched trials measure the coast alone"); the
-# models installed in models/data/twin/ were made without it.
+# --no-launched leaves step 3 out (docs/discrepancy.md, "Launched trials measure the coast
+# alone"): the analysis then sees the logs alone.
 #
 # --twin-flag F (repeatable) adds a flag of the twin's physics to every command, e.g.
 # --twin-flag --no-air-turbulence-swept: the models of that twin (models/data/twin_lagrangian/;
 # not installable: models/data/twin/ are the default twin's).
 #
-# Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] [--launched] [--twin-flag F ...]
+# Usage: scripts/fit_twin_models.sh [--airtwin BIN] [--install] [--no-launched] [--twin-flag F ...]
 #          --out OUT
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,13 +35,13 @@ cd "$(dirname "$0")/.."
 airtwin=build/airtwin
 out=""
 install=0
-launched=0
+launched=1
 extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --airtwin) airtwin="$2"; shift 2 ;;
     --install) install=1; shift ;;
-    --launched) launched=1; shift ;;
+    --no-launched) launched=0; shift ;;
     --twin-flag) extra+=("$2"); shift 2 ;;
     --out) out="$2"; shift 2 ;;
     -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
@@ -95,8 +95,8 @@ echo "fit_twin_models.sh: closed-loop logs, seeds 101-105" >&2
 coast=()
 for object in $(if [ "$launched" = 1 ]; then echo tracer cotton; fi); do
   echo "fit_twin_models.sh: launched $object trials" >&2
-  "$airtwin" collect --object "$object" --protocol launched --tilts 0,22.5 --per-tilt 50 \
-    --seed 202 "${twin[@]}" --quiet --out "$out/${object}_launched.csv"
+  "$airtwin" collect --object "$object" --protocol launched --launch-speed 0.3,1.0 \
+    --tilts 0,22.5 --per-tilt 50 --seed 202 "${twin[@]}" --quiet --out "$out/${object}_launched.csv"
   coast+=("coast=$out/${object}_launched.csv")
 done
 data="closed-loop logs of line, square, letter_A and sorting, seeds 101-105"

@@ -32,17 +32,17 @@ ObjectTypeParameters ObjectTypeParameters::tracer() {
   // below (docs/twin.md, "Calibrating it"). A hemisphere lying on its face meets horizontal air
   // with a half disc, pi r^2 / 2 = 3.5e-4 m^2; C_D of a hemisphere's convex side to the flow
   // 0.34-0.42 (Hoerner, Fluid-Dynamic Drag, 1965); Re on the diameter.
-  p.drag_coefficient = 0.35;
+  p.drag_coefficient = 0.38;
   p.frontal_area_m2 = 0.5 * kPi * r * r;
   p.drag_length_m = p.diameter_m;
   // Expanded polystyrene sliding on a smooth hard floor: 0.3-0.5.
-  p.physical_kinetic_friction = 0.4;
+  p.physical_kinetic_friction = 0.45;
   // Static over kinetic, foam on a hard floor: 1-1.4 (the protocol cannot tell them apart).
   p.physical_static_friction_ratio = 1.4;
   // Lift of a hemisphere on a floor on its footprint pi r^2: 0.69 in potential flow with the
   // free-stream pressure under the base (the suction over the dome); separation behind it takes
   // some of that away: within [0, 0.69].
-  p.lift_coefficient = 0.2;
+  p.lift_coefficient = 0.3;
   return p;
 }
 

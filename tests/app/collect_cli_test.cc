@@ -84,7 +84,7 @@ TEST(CollectCli, WritesTheTrajectoryCsvSameSeedSameBytes) {
   ASSERT_EQ(objects.rows(), 4u);
   for (size_t i = 0; i < objects.rows(); ++i) {
     EXPECT_EQ(objects.text(i, "traj"), std::to_string(i));
-    EXPECT_NEAR(objects.number(i, "mu_k"), 0.4, 0.2 * 0.4 + 1e-9);  // the tracer's 0.4 +-20 %
+    EXPECT_NEAR(objects.number(i, "mu_k"), 0.45, 0.2 * 0.45 + 1e-9);  // the tracer's 0.45 +-20 %
     EXPECT_EQ(objects.number(i, "area_cm2"), objects.number(0, "area_cm2"));  // the geometry
   }
   EXPECT_NE(objects.number(0, "mu_k"), objects.number(1, "mu_k"));

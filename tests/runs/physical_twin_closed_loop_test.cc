@@ -66,8 +66,9 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
   // 3 elites, 5 iterations), as the scenario file has it.
   const Scenario line = read_scenario(AIRTWIN_SOURCE_DIR "/scenes/line.yaml");
   // Two seeds pin the pipeline's regressions; scripts/acceptance.sh holds the ten-seed floor.
-  // Seeds 1-10 succeed twice (seeds 5 and 7, in 25.2 s and 109.8 s; docs/twin.md): both.
-  for (const uint64_t seed : {5, 7}) {
+  // Seeds 1-10 succeed six times (1, 2, 5, 8, 9, 10; docs/twin.md): seeds 5 and 8, in 91.8 s and
+  // 34.2 s.
+  for (const uint64_t seed : {5, 8}) {
     ScenarioRunOptions options;
     options.seed = seed;
     options.twin = physical_twin();
@@ -80,8 +81,8 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
         r.loop.completion_time_s.value_or(r.loop.end_time_s), 100 * r.path_error_m.mean,
         100 * r.path_error_m.max);
     EXPECT_TRUE(r.success) << "seed " << seed;
-    // Within 3x of Table I's time (seed 7 takes 2.9x); errors within 5x (the physical twin
-    // is harder than the rig for the identified model: docs/twin.md).
+    // Within 3x of Table I's time (seed 5 takes 2.4x); errors within 5x (seed 5's mean 3.9x: the
+    // physical twin is harder than the rig for the identified model, docs/twin.md).
     EXPECT_LT(r.loop.completion_time_s.value_or(1e9), 3 * 38.0) << "seed " << seed;
     EXPECT_LT(r.path_error_m.mean, 5 * 0.0067) << "seed " << seed;
   }
@@ -93,9 +94,9 @@ TEST(PhysicalTwinClosedLoop, IdentifiedOnTheTwinThePapersControllerFollowsTheLin
 // (`airtwin discrepancy`'s library, its defaults), and the extended model it makes steers the
 // line at seeds the analysis never saw, where the identified model alone fails. The error it
 // meets is the twin's own, none hidden for it: near its start threshold, where the CEM's pushes
-// land, the identified model under-predicts a tracer's travel 2-3x (docs/twin.md). Seeds 1-10 of
-// the four path scenarios: 6/40 nominal, 40/40 extended (scripts/physical_twin_closed_loop.sh
-// --discrepancy).
+// land, the identified model under-predicts a tracer's travel 2-3x (docs/twin.md). The line's
+// seeds 1-10: the identified model fails 3, 4, 6 and 7, and the extended model of these logs
+// succeeds at all four (in 14-40 s, mean path error at most 0.12 cm).
 TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
   const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);
@@ -130,7 +131,7 @@ TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
   ExtendedModel extended;
   extended.objects = objects;
   extended.extensions = report.extensions;
-  for (const uint64_t seed : {1, 3}) {
+  for (const uint64_t seed : {3, 4}) {
     ScenarioRunOptions options;
     options.seed = seed;
     options.twin = physical_twin();
@@ -158,8 +159,8 @@ TEST(PhysicalTwinClosedLoop, ClosedLoopLogsExtendTheModelAndTheLineIsFollowed) {
 // toward the point below the nozzle move a tracer from 30 cm (docs/controller.md, the region),
 // and moves nothing there in 150 s (0 of seeds 1-10). From this start: every tracer in the zone,
 // in a time of the paper's kind (105 s). Seeds 1-10 with the script's identified model
-// (scripts/physical_twin_closed_loop.sh --multi, 2026-11-29): 10/10, median 95.4 s, worst 133.2
-// s; here seed 1 takes 118.8 s.
+// (scripts/physical_twin_closed_loop.sh --multi, 2026-11-29, the tracer set before): 10/10,
+// median 95.4 s, worst 133.2 s; here seed 1 takes 75.6 s.
 TEST(PhysicalTwinClosedLoop, TheAggregationFromANearerWiderStartCollectsEveryTracer) {
   const AirFieldModel field = cfd_fitted_field();
   const IdentifiedModel model = identified_tracer(field);

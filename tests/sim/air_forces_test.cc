@@ -152,7 +152,7 @@ TEST(AirForces, AnObjectsOwnPhysicsReplacesItsTypes) {
                         u_rel.squaredNorm() / f.object.mass_kg;
     EXPECT_NEAR(f.data->qacc[2], lift, 1e-9 * lift);
   }
-  // The type's own force is another one (C_D 0.35, A half): over twice as strong here.
+  // The type's own force is another one (C_D 0.38, A half): over twice as strong here.
   EXPECT_GT(a[1].norm(), 2.0 * a[0].norm());
 }
 

@@ -95,9 +95,10 @@ TEST(TwinCalibration, CottonWithEquationEightsTermsWhereTheSelectionFails) {
 
 // Paper (section IV-B): a tracer placed at the same start (within 5 mm) at 0 deg tilt ends 7.7%
 // (MAPE of the travelled distance) away from where the first run ended. In the twin `twin`: 8
-// starts of collection seed `seed` at 0 deg, 6 runs each.
+// starts of collection seed `seed` at 0 deg, 6 runs each; the MAPE within [low, high] %.
 void expect_repeatability_near_the_papers(const TwinParameters& twin, std::uint64_t seed,
-                                          const AirFieldModel& field) {
+                                          const AirFieldModel& field, double low = 7.7 / 2,
+                                          double high = 7.7 * 2) {
   CollectionOptions o;
   o.per_tilt = 8;
   o.seed = seed;
@@ -114,8 +115,8 @@ void expect_repeatability_near_the_papers(const TwinParameters& twin, std::uint6
   ASSERT_GE(n, 5);
   const double mape = sum / n;
   ::testing::Test::RecordProperty("repeatability_mape", std::to_string(mape));
-  EXPECT_GT(mape, 7.7 / 2);
-  EXPECT_LT(mape, 7.7 * 2);
+  EXPECT_GT(mape, low);
+  EXPECT_LT(mape, high);
 }
 
 TEST(TwinCalibration, RepeatabilityFromOneStartIsNearThePapers) {
@@ -162,20 +163,24 @@ void expect_the_shipped_model(const IdentifiedModel& m, const std::string& objec
 // The figures docs/twin.md gives for seed 202, against the paper's. The issue's targets are
 // coefficients within 10 % (tracer) and 20 % (cotton), end-position MAPE within 5 points of the
 // paper's at each tilt. Where physics does not reach them the bound is the nearest reached, with
-// the evidence in docs/twin.md. Seed 202 is a kind draw for the tracer's MAPE: over the held-out
-// collections 102-130 its medians are 16.8 / 40.8 % (the acceptance tier's test below). Here: the
-// tracer's air gain xi2 is 23 % under the paper's (drag on u - v weighs the air and the object's
-// speed alike), the wads' drag rate 22 % under on this seed (16.6 and 19.3 % on seeds 404 and 303),
-// the wads' MAPE at 0 deg 13.0 % against 18.4 - 5.
+// the evidence in docs/twin.md. Here: the tracer's air gain xi2 is 15 % under the paper's (drag on
+// u - v weighs the air and the object's speed alike) and its end MAPE 20.2 / 27.1 % against 9 /
+// 19.3 % (over the held-out collections 102-130 its medians are 14.4 / 36.5 %, the acceptance
+// tier's test below: seed 202 is an unkind draw at 0 deg and a kind one at 22.5 deg); the wads'
+// drag rate 22 % under on this seed (16.6 and 19.3 % on seeds 404 and 303), the wads' MAPE at 0
+// deg 13.0 % against 18.4 - 5.
 TEST(TwinCalibration, PhysicalTracerDataReproduceTheShippedModelAndItsFigures) {
   const IdentifiedModel m = physical_twin_identified("tracer");
   record(m);
   ASSERT_TRUE(m.is_eq8()) << m.eq8_note();
   expect_the_shipped_model(m, "tracer");
-  expect_within(m.eq8(), kTracerDynamics, 0.25);  // the issue: 10 %; reached: 23.4 %
+  expect_within(m.eq8(), kTracerDynamics, 0.17);  // the issue: 10 %; reached: 15.2 %
   EXPECT_GE(m.r2, 0.9);
-  EXPECT_NEAR(m.end_position_mape_by_tilt_pct.at(0.0), 9.0, 5.0);    // 12.4 %
-  EXPECT_NEAR(m.end_position_mape_by_tilt_pct.at(22.5), 19.3, 5.0);  // 23.7 %
+  // The issue: within 5 points of the paper's; reached on this seed: 20.2 and 27.1 %.
+  EXPECT_GE(m.end_position_mape_by_tilt_pct.at(0.0), 9.0 - 5.0);
+  EXPECT_LE(m.end_position_mape_by_tilt_pct.at(0.0), 22.5);
+  EXPECT_GE(m.end_position_mape_by_tilt_pct.at(22.5), 19.3 - 5.0);
+  EXPECT_LE(m.end_position_mape_by_tilt_pct.at(22.5), 30.0);
 }
 
 TEST(TwinCalibration, PhysicalCottonDataReproduceTheShippedModelAndItsFigures) {
@@ -189,18 +194,19 @@ TEST(TwinCalibration, PhysicalCottonDataReproduceTheShippedModelAndItsFigures) {
   EXPECT_NEAR(m.end_position_mape_by_tilt_pct.at(22.5), 26.9, 5.0);  // 23.0 %
 }
 
-// The paper's 7.7 % from one start, in the physical twin (seed 202: 13.2 %; 101 and 303: 10.1
-// and 8.6 %), within the factor 2 of the mirror's test above.
+// The paper's 7.7 % from one start, in the physical twin: within the issue's 3 points (seed 202:
+// 10.3 %; over the held-out collections 102-130 the median is 8.8 %).
 TEST(TwinCalibration, PhysicalRepeatabilityFromOneStartIsNearThePapers) {
-  expect_repeatability_near_the_papers(physical_twin(), 202, AirFieldModel::fitted_to_cfd());
+  expect_repeatability_near_the_papers(physical_twin(), 202, AirFieldModel::fitted_to_cfd(),
+                                       7.7 - 3.0, 7.7 + 3.0);
 }
 
 // The shipped tracer set judged on collections its calibration (seed 101) did not see, seeds
 // 102-130, by the whole protocol at each (Appendix D, identify's defaults, the repeatability).
 // Acceptance tier (~2 min on two cores). The bounds are the medians measured 2026-11-29
-// (docs/twin.md, "The tracer's two sets over 30 collections"; the issue's targets are not reached)
-// with a tenth of margin, so that a change of the twin that takes it further from the paper shows
-// here.
+// (docs/twin.md, "The tracer's two sets over 30 collections"; of the issue's targets the
+// repeatability alone is reached) with a tenth of margin, so that a change of the twin that takes
+// it further from the paper shows here.
 TEST(TwinCalibration, PhysicalTracerSetOnHeldOutCollections) {
   if (!testing::acceptance_tier()) GTEST_SKIP() << "acceptance tier (AIRTWIN_TEST_TIER=acceptance)";
   DragCalibrationOptions o;
@@ -225,12 +231,12 @@ TEST(TwinCalibration, PhysicalTracerSetOnHeldOutCollections) {
   const DragCheckSummary sum = summarize_checks(checks);
   const int lost = sum.air_term_lost;
   ::testing::Test::RecordProperty("air_term_lost", lost);
-  EXPECT_LE(lost, 13);  // 10 of 29 (the air gain 3.1-3.3 1/s, lambda's threshold 2.8)
+  EXPECT_LE(lost, 2);  // 0 of 29 (the air gain ~3.4 1/s, lambda's threshold 2.8)
   ASSERT_GT(sum.worst_relative_error.n, 0u);
-  EXPECT_LE(sum.worst_relative_error.median, 0.29);       // 26.5 %; the issue: 10 %
-  EXPECT_LE(sum.mape_by_tilt_pct.at(0.0).median, 18.5);   // 16.8 %; the paper: 9 %
-  EXPECT_LE(sum.mape_by_tilt_pct.at(22.5).median, 45.0);  // 40.8 %; the paper: 19.3 %
-  EXPECT_LE(sum.repeatability_pct.median, 12.8);          // 11.6 %; the paper: 7.7 %
+  EXPECT_LE(sum.worst_relative_error.median, 0.223);      // 20.3 %; the issue: 10 %
+  EXPECT_LE(sum.mape_by_tilt_pct.at(0.0).median, 15.8);   // 14.4 %; the paper: 9 %
+  EXPECT_LE(sum.mape_by_tilt_pct.at(22.5).median, 40.2);  // 36.5 %; the paper: 19.3 %
+  EXPECT_LE(sum.repeatability_pct.median, 9.7);           // 8.8 %; the paper: 7.7 %
 }
 
 }  // namespace
