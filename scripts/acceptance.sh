@@ -72,20 +72,21 @@ done
 # Success floors over seeds 1-N, as fractions of N: the rates measured over seeds 1-30
 # (docs/controller.md: octagon 26/30, the others 30/30; static friction that holds,
 # 2026-11-27) less one run in thirty. Sorting with vision: measured 20/20 before that change.
-# The rates below were measured with the tracer set before 2026-11-29 (C_D 0.35, mu_k 0.4, C_L
-# 0.2); with the set since, seeds 1-10 of the default twin gave every scenario 10/10 in fast mode
-# and the paper's pipeline 9/40 (line 6, square 1, letter A 2, octagon 0): the over-30-seed
-# rates are to be measured again by this script's next run.
+# The tracer set changed on 2026-11-29 (C_D 0.35, mu_k 0.4, C_L 0.2 before): the default twin's
+# rates below are the new set's; the others (vision, varied objects, the physical stage) were
+# measured with the set before, and are to be measured again by this script's next run (with
+# the set since, seeds 1-10 with vision: 10/10 but the sorting's 9/10; the paper's pipeline 9/40:
+# line 6, square 1, letter A 2, octagon 0).
 floor_of() {
   case "$1" in
     # The default twin, the physical one (docs/twin.md, "The physical twin by default"), with
-    # the sweep clearance (docs/controller.md, "The re-aim's sweep"): seeds 1-30 gave 30/30 for
-    # the line, the square and the aggregation (also with mu0 30 cm, 2026-11-29), 29/30 for the
-    # letter A and the octagon, 28/30 for the sorting (its scan over every point, 2026-11-28;
-    # 26/30 with the wads calibrated again, 29/30 on seeds 31-60; 27/30 and 28/30 with the
-    # paper's Sigma0, 2026-11-29); floors at those rates less one in ten (regression floors).
+    # the sweep clearance (docs/controller.md, "The re-aim's sweep"): seeds 1-30 with the tracer
+    # set since 2026-11-29 gave 30/30 for the line, the square, the octagon and the aggregation,
+    # 29/30 for the letter A (seed 20 stalled) and the sorting (seed 24); floors at those rates
+    # less one in ten (regression floors). (The set before: 29/30 for the letter A and the
+    # octagon, 27-28/30 for the sorting.)
     line | square | letter_A | octagon | aggregation) echo 0.9 ;;
-    sorting) echo 0.8 ;;
+    sorting) echo 0.85 ;;
     # With vision, seeds 1-10 (docs/twin.md, the default twin's Table I with vision, the camera's
     # low noise): the paths, the aggregation and the sorting 10/10, the octagon 10/10 (with the
     # blind search's rescue); less one in ten. This sweep's camera has no noise: the octagon 9/10
