@@ -18,7 +18,7 @@
 # Writes OUT/{tracer,cotton}_identified.json, OUT/extended_model.json and the analysis in
 # OUT/discrepancy/; with --install also copies the three models to models/data/twin/, which the
 # twin's commands plan with by default. Deterministic: the same binary gives the same bytes.
-# ~25 min on 2 cores.
+# ~20 min on 2 cores.
 #
 # --no-launched leaves step 3 out (docs/discrepancy.md, "Launched trials measure the coast
 # alone"): the analysis then sees the logs alone.
