@@ -44,7 +44,7 @@ while [ $# -gt 0 ]; do
     --no-launched) launched=0; shift ;;
     --twin-flag) extra+=("$2"); shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fit_twin_models.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
