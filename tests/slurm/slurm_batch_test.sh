@@ -45,11 +45,16 @@ cleanup() {
   local status=$?
   for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-  # munged runs as a daemon of its own: stopped by its pid file.
-  [ -f "$work/munge/munged.pid" ] && kill -TERM "$(cat "$work/munge/munged.pid")" 2>/dev/null
-  true
+  # munged runs as a daemon of its own: stopped by its pid file, and waited for, since it writes
+  # its seed file and removes its socket as it exits (a folder removed under it is not empty).
+  if [ -f "$work/munge/munged.pid" ]; then
+    local munged_pid
+    munged_pid=$(cat "$work/munge/munged.pid")
+    kill -TERM "$munged_pid" 2>/dev/null || true
+    for _ in $(seq 100); do kill -0 "$munged_pid" 2>/dev/null || break; sleep 0.1; done
+  fi
   if [ "$status" = 0 ]; then
-    rm -rf "$work"
+    rm -rf "$work" || echo "slurm_batch_test: could not remove $work" >&2
   else
     echo "slurm_batch_test: logs kept in $work (slurmctld.log, slurmd.log, logs/)" >&2
   fi
