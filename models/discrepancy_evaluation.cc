@@ -25,9 +25,66 @@ std::map<std::string, ModelExtensions> extensions_by_type(const ModelExtensions&
   return typed;
 }
 
+size_t Evaluator::Kept::bytes() const {
+  return sizeof(Kept) + which.size() * sizeof(size_t) + scores.size() * sizeof(WindowScore) +
+         static_cast<size_t>(residuals.size()) * sizeof(double);
+}
+
+size_t Evaluator::repeats_answered() const {
+  std::lock_guard<std::mutex> lock(kept_mutex_);
+  return answered_;
+}
+
+size_t Evaluator::evaluations_predicted() const {
+  std::lock_guard<std::mutex> lock(kept_mutex_);
+  return predicted_;
+}
+
 void Evaluator::evaluate(const ModelExtensions& ext, const std::vector<size_t>& which,
                          std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
                          Fidelity fidelity) const {
+  {
+    std::lock_guard<std::mutex> lock(kept_mutex_);
+    for (auto it = kept_.begin(); it != kept_.end(); ++it) {
+      if (it->fidelity != fidelity || !(it->ext == ext) || it->which != which) continue;
+      if (residuals != nullptr && !it->has_residuals) break;  // predicted again, kept with them
+      *scores = it->scores;
+      if (residuals != nullptr) *residuals = it->residuals;
+      kept_.splice(kept_.begin(), kept_, it);
+      ++answered_;
+      return;
+    }
+  }
+  predict(ext, which, scores, residuals, fidelity);
+  Kept k{fidelity,
+         which,
+         ext,
+         *scores,
+         residuals != nullptr,
+         residuals != nullptr ? *residuals : Eigen::VectorXd()};
+  const size_t bytes = k.bytes();
+  std::lock_guard<std::mutex> lock(kept_mutex_);
+  ++predicted_;
+  if (bytes > kMemoBytes) return;
+  // A result kept without residuals that these now have is superseded.
+  for (auto it = kept_.begin(); it != kept_.end(); ++it) {
+    if (it->fidelity == fidelity && it->ext == ext && it->which == which) {
+      kept_bytes_ -= it->bytes();
+      kept_.erase(it);
+      break;
+    }
+  }
+  kept_.push_front(std::move(k));
+  kept_bytes_ += bytes;
+  while (kept_bytes_ > kMemoBytes || kept_.size() > kMemoEntries) {
+    kept_bytes_ -= kept_.back().bytes();
+    kept_.pop_back();
+  }
+}
+
+void Evaluator::predict(const ModelExtensions& ext, const std::vector<size_t>& which,
+                        std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
+                        Fidelity fidelity) const {
   const ExtendedPredictor& predictor = fidelity == Fidelity::kFull ? predictor_ : screen_;
   scores->assign(which.size(), {});
   std::vector<size_t> offsets(which.size() + 1, 0);

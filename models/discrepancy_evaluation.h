@@ -5,8 +5,10 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <list>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <thread>
@@ -38,8 +40,16 @@ struct WindowScore {
 // full step).
 enum class Fidelity { kFull, kScreen };
 
+// Evaluations are pure: the same extensions on the same windows at the same fidelity give the
+// same figures. The fits ask for many twice (a grid's point scored again at the full step, the
+// compass's and Levenberg-Marquardt's revisits, a candidate's fit seen again by the selection), a
+// third of the prediction work of an Appendix D analysis; the evaluator keeps its latest results
+// (at most kMemoEntries, kMemoBytes) and answers a repeat from them.
 class Evaluator {
  public:
+  static constexpr size_t kMemoEntries = 256;
+  static constexpr size_t kMemoBytes = size_t{32} << 20;
+
   Evaluator(const AirFieldModel& field, const WindowSet& ws, double step_s, double screen_step_s)
       : predictor_(field, step_s), screen_(field, screen_step_s), ws_(ws) {
     const unsigned hw = std::thread::hardware_concurrency();
@@ -61,11 +71,31 @@ class Evaluator {
     return n;
   }
 
+  // Evaluations answered from the kept results, and predicted.
+  size_t repeats_answered() const;
+  size_t evaluations_predicted() const;
+
  private:
+  struct Kept {
+    Fidelity fidelity;
+    std::vector<size_t> which;
+    ModelExtensions ext;
+    std::vector<WindowScore> scores;
+    bool has_residuals = false;
+    Eigen::VectorXd residuals;
+    size_t bytes() const;
+  };
+  void predict(const ModelExtensions& ext, const std::vector<size_t>& which,
+               std::vector<WindowScore>* scores, Eigen::VectorXd* residuals,
+               Fidelity fidelity) const;
+
   ExtendedPredictor predictor_;
   ExtendedPredictor screen_;
   const WindowSet& ws_;
   unsigned threads_ = 1;
+  mutable std::mutex kept_mutex_;
+  mutable std::list<Kept> kept_;  // the latest first
+  mutable size_t kept_bytes_ = 0, answered_ = 0, predicted_ = 0;
 };
 
 // `ext` as each type among windows `which` of `ws` feels it (ModelExtensions::for_type); empty

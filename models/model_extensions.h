@@ -22,6 +22,9 @@ struct ObjectExtensions {
   /// linearised_drag: the share of eq. (8)'s friction |xi3| that is the intercept of its linear
   /// drag read as the tangent of a quadratic ([0, 0.95]; 0: eq. (8)'s linear drag and friction)
   double drag_intercept_share = 0.0;
+
+  /// Member by member (values: -0.0 equals 0.0, NaN equals nothing).
+  bool operator==(const ObjectExtensions&) const = default;
 };
 
 /// Every extension's parameters in SI; the defaults are the nominal model (all off).
@@ -55,6 +58,10 @@ struct ModelExtensions {
   /// Throws InputError naming the effect and parameter when a value is not finite or out of its
   /// physical range (the catalogue's).
   void validate() const;
+
+  /// Member by member, every type's own effects included (values: -0.0 equals 0.0, NaN equals
+  /// nothing): equal extensions predict the same.
+  bool operator==(const ModelExtensions&) const = default;
 };
 
 // Extension names are the catalogue's, "NAME" or, for a per_type effect, "NAME@TYPE" (the
