@@ -97,8 +97,22 @@ void Evaluator::predict(const ModelExtensions& ext, const std::vector<size_t>& w
     std::vector<Eigen::Vector2d> predicted;
     for (size_t i = begin; i < end; ++i) {
       const Window& w = ws_.windows[which[i]];
-      predictor.predict(*w.xi, typed.empty() ? ext : typed.at(*w.type), *w.timeline, w.start,
-                        w.times, &predicted);
+      const ModelExtensions& felt = typed.empty() ? ext : typed.at(*w.type);
+      const OrientationTrack* track = nullptr;
+      if (felt.transport_pace_s_per_m == 0.0 && !w.times.empty()) {
+        std::optional<OrientationTrack>& slot = tracks_[which[i]][static_cast<int>(fidelity)];
+        if (!slot || !slot->serves(felt, *w.timeline, w.start.t_s, predictor.step_s())) {
+          if (slot) track_bytes_ -= slot->bytes();
+          slot = predictor.track(felt, *w.timeline, w.start.t_s, w.times.back());
+          track_bytes_ += slot->bytes();
+          if (track_bytes_ > kTrackBytes) {  // over the bound: this window goes without
+            track_bytes_ -= slot->bytes();
+            slot.reset();
+          }
+        }
+        if (slot) track = &*slot;
+      }
+      predictor.predict(*w.xi, felt, *w.timeline, w.start, w.times, &predicted, track);
       const double norm = 1.0 / (w.scale_m * std::sqrt(static_cast<double>(w.times.size())));
       double sum = 0.0;
       for (size_t k = 0; k < w.times.size(); ++k) {

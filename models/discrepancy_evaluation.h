@@ -4,11 +4,14 @@
 // fits minimise, with the robust loss they use. Internal to the analysis.
 
 #include <Eigen/Core>
+#include <array>
+#include <atomic>
 #include <cstddef>
 #include <list>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -51,7 +54,10 @@ class Evaluator {
   static constexpr size_t kMemoBytes = size_t{32} << 20;
 
   Evaluator(const AirFieldModel& field, const WindowSet& ws, double step_s, double screen_step_s)
-      : predictor_(field, step_s), screen_(field, screen_step_s), ws_(ws) {
+      : predictor_(field, step_s),
+        screen_(field, screen_step_s),
+        ws_(ws),
+        tracks_(ws.windows.size()) {
     const unsigned hw = std::thread::hardware_concurrency();
     threads_ = std::clamp<unsigned>(hw == 0 ? 1 : hw, 1, 8);
   }
@@ -93,6 +99,12 @@ class Evaluator {
   ExtendedPredictor screen_;
   const WindowSet& ws_;
   unsigned threads_ = 1;
+  // Each window's orientations at each fidelity (ExtendedPredictor::track), for the latest
+  // response delay and nozzle offset it was predicted under; at most kTrackBytes in all. A window
+  // is predicted by one thread of one evaluate() at a time.
+  static constexpr size_t kTrackBytes = size_t{96} << 20;
+  mutable std::vector<std::array<std::optional<OrientationTrack>, 2>> tracks_;
+  mutable std::atomic<size_t> track_bytes_{0};
   mutable std::mutex kept_mutex_;
   mutable std::list<Kept> kept_;  // the latest first
   mutable size_t kept_bytes_ = 0, answered_ = 0, predicted_ = 0;

@@ -215,16 +215,30 @@ class FrontHistory {
 struct FeltField {
   FeltField(const AirFieldModel& model, const NozzleOrientation& o)
       : model(model), orientation(o), rays(model.rays_at(o)) {}
+  FeltField(const AirFieldModel& model, const OrientedRays& r)
+      : model(model), orientation(r.orientation()), rays(r) {}
   // Moves on to orientation o; true when the field changed (an object held at rest must then be
   // checked again).
   bool update(const NozzleOrientation& o) {
     if (o.pan_rad != orientation.pan_rad || o.tilt_rad != orientation.tilt_rad) {
-      orientation = o;
-      rays = model.rays_at(o);
-      have_field = false;
-      steady = 0;
-      return true;
+      return moved_to(model.rays_at(o));
     }
+    return held_still();
+  }
+  // The same with the orientation's rays already worked out (an OrientationTrack's).
+  bool update(const OrientedRays& r) {
+    const NozzleOrientation& o = r.orientation();
+    if (o.pan_rad != orientation.pan_rad || o.tilt_rad != orientation.tilt_rad) return moved_to(r);
+    return held_still();
+  }
+  bool moved_to(const OrientedRays& r) {
+    orientation = r.orientation();
+    rays = r;
+    have_field = false;
+    steady = 0;
+    return true;
+  }
+  bool held_still() {
     if (!have_field && ++steady >= kSteadySteps) {
       field = rays.field();
       have_field = true;
@@ -260,10 +274,55 @@ void require_one_type(const ModelExtensions& ext) {
 
 }  // namespace
 
+bool OrientationTrack::serves(const ModelExtensions& ext, const NozzleTimeline& timeline,
+                              double t0_s, double step_s) const {
+  return timeline_ == &timeline && t0_s_ == t0_s && step_s_ == step_s &&
+         ext.transport_pace_s_per_m == 0.0 && extra_delay_s_ == ext.extra_delay_s &&
+         pan_offset_rad_ == ext.pan_offset_rad && tilt_offset_rad_ == ext.tilt_offset_rad;
+}
+
+size_t OrientationTrack::bytes() const {
+  return sizeof(OrientationTrack) + run_of_step_.size() * sizeof(unsigned) +
+         runs_.size() * sizeof(OrientedRays);
+}
+
+OrientationTrack ExtendedPredictor::track(const ModelExtensions& ext,
+                                          const NozzleTimeline& timeline, double t0_s,
+                                          double t_end_s) const {
+  if (ext.transport_pace_s_per_m > 0.0) {
+    throw InputError(
+        "extended predictor: with the transport lag each point feels its own "
+        "orientation, which no track holds");
+  }
+  if (!(std::isfinite(t0_s) && std::isfinite(t_end_s))) {
+    throw InputError("extended predictor: a track's times must be finite");
+  }
+  OrientationTrack k;
+  k.field_ = &field_;
+  k.timeline_ = &timeline;
+  k.t0_s_ = t0_s;
+  k.step_s_ = step_;
+  k.extra_delay_s_ = ext.extra_delay_s;
+  k.pan_offset_rad_ = ext.pan_offset_rad;
+  k.tilt_offset_rad_ = ext.tilt_offset_rad;
+  // The steps predict() takes: t summed step by step, as there, while a sample is still ahead.
+  for (double t = t0_s;; t += step_) {
+    const NozzleOrientation o = field_orientation(ext, timeline, t);
+    if (k.runs_.empty() || o.pan_rad != k.runs_.back().orientation().pan_rad ||
+        o.tilt_rad != k.runs_.back().orientation().tilt_rad) {
+      k.runs_.push_back(field_.rays_at(o));
+    }
+    k.run_of_step_.push_back(static_cast<unsigned>(k.runs_.size() - 1));
+    if (!(t < t_end_s)) break;
+  }
+  return k;
+}
+
 void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions& ext,
                                 const NozzleTimeline& timeline, const WindowStart& start,
                                 std::span<const double> times_s,
-                                std::vector<Eigen::Vector2d>* positions) const {
+                                std::vector<Eigen::Vector2d>* positions,
+                                const OrientationTrack* track) const {
   AIRTWIN_DEMAND(positions != nullptr);
   ext.validate();
   require_one_type(ext);
@@ -290,9 +349,16 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
   auto felt = [&](double t, const Eigen::Vector2d& p) {
     return front ? front->felt(t, p) : field_orientation(ext, timeline, t);
   };
+  // The orientations from the caller's track where it serves (the same ones, worked out once).
+  if (track != nullptr &&
+      (front || track->field_ != &field_ || !track->serves(ext, timeline, start.t_s, h))) {
+    track = nullptr;
+  }
+  size_t step = 0;
   // While the nozzle moves the orientation changes every step: the field is then read along rays
   // (two profiles per step); once it has held still for kSteadySteps the full field is built.
-  FeltField air(field_, felt(start.t_s, start.p_W));
+  FeltField air = track != nullptr ? FeltField(field_, track->runs_[track->run_of_step_[0]])
+                                   : FeltField(field_, felt(start.t_s, start.p_W));
   const Pull pull(xi, ext, ext.object);
   Mover object(pull, start.p_W, start.v_W);
   double t = start.t_s;
@@ -308,7 +374,11 @@ void ExtendedPredictor::predict(const ObjectDynamics& xi, const ModelExtensions&
       break;
     }
     // The field follows the nozzle: a new one when the orientation it follows has changed.
-    if (air.update(felt(t, object.p))) object.field_changed();
+    const bool changed = track != nullptr && step < track->run_of_step_.size()
+                             ? air.update(track->runs_[track->run_of_step_[step]])
+                             : air.update(felt(t, object.p));
+    if (changed) object.field_changed();
+    ++step;
     const Eigen::Vector2d p_old = object.p;
     air.step(object, h);
     const double t_new = t + h;

@@ -45,6 +45,29 @@ struct WindowStart {
   Eigen::Vector2d v_W = Eigen::Vector2d::Zero();  ///< m/s
 };
 
+/// The orientations the air follows over one prediction's steps without the transport lag, each
+/// with its field seen along rays: what predict() works out at every step while the servos turn.
+/// They are the same for every prediction of one window (timeline, start, step) under extensions
+/// with the same response delay and nozzle offset, so a caller that predicts a window many times
+/// (the discrepancy analysis's fits) has them worked out once (ExtendedPredictor::track).
+class OrientationTrack {
+ public:
+  /// Whether predict() with these arguments can read its orientations here.
+  bool serves(const ModelExtensions& ext, const NozzleTimeline& timeline, double t0_s,
+              double step_s) const;
+  /// The memory it holds (bytes).
+  size_t bytes() const;
+
+ private:
+  friend class ExtendedPredictor;
+  const AirFieldModel* field_ = nullptr;
+  const NozzleTimeline* timeline_ = nullptr;
+  double t0_s_ = 0.0, step_s_ = 0.0;
+  double extra_delay_s_ = 0.0, pan_offset_rad_ = 0.0, tilt_offset_rad_ = 0.0;
+  std::vector<unsigned> run_of_step_;  // step j (at t0 + j steps, summed): its run
+  std::vector<OrientedRays> runs_;     // runs of one orientation, in time order
+};
+
 class ExtendedPredictor {
  public:
   /// `field` must outlive the predictor. Throws InputError unless step_s is finite and in
@@ -55,9 +78,18 @@ class ExtendedPredictor {
   /// `positions` gets one entry per time. `ext` as the object's type feels them
   /// (ModelExtensions::for_type). Throws InputError when the inputs are not finite, the times are
   /// not ordered, the extensions are invalid or hold a type's own effects.
+  /// `track`, when given and serving these arguments (OrientationTrack::serves), supplies the
+  /// orientations: the same positions, sooner.
   void predict(const ObjectDynamics& xi, const ModelExtensions& ext, const NozzleTimeline& timeline,
                const WindowStart& start, std::span<const double> times_s,
-               std::vector<Eigen::Vector2d>* positions) const;
+               std::vector<Eigen::Vector2d>* positions,
+               const OrientationTrack* track = nullptr) const;
+
+  /// The orientations predict() follows from t0_s up to t_end_s under `ext`'s response delay and
+  /// nozzle offset (its other extensions play no part). Throws InputError when `ext` has the
+  /// transport lag (each point then feels its own orientation) or the times are not finite.
+  OrientationTrack track(const ModelExtensions& ext, const NozzleTimeline& timeline, double t0_s,
+                         double t_end_s) const;
 
   /// The end positions at `t_end_s` of several objects that start together (every start at the
   /// same t_s) under one timeline: each object's result is the same as predict() with the one

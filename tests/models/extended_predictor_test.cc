@@ -409,6 +409,69 @@ TEST(ExtendedPredictor, EndsOfManyAreEndsOfEach) {
   EXPECT_THROW(predictor.predict(xi[0], ext, timeline, starts[0], times, &one), InputError);
 }
 
+// A track holds the orientations predict() works out: with it the positions are the same bits;
+// a track of another response delay, nozzle offset, start or step is not read.
+TEST(ExtendedPredictor, ATrackGivesTheSamePositionsAndOnlyWhereItServes) {
+  ModelExtensions ext;
+  ext.push_strength_mps2 = 8.0;
+  ext.push_length_m = 0.2;
+  ext.extra_delay_s = 0.1;
+  ext.pan_offset_rad = deg_to_rad(3.0);
+  ext.tilt_offset_rad = deg_to_rad(2.0);
+  ext.object.drag_intercept_share = 0.4;
+  // A re-aim at t = 0: the servos turn for a few tenths of a second inside the window.
+  const NozzleTimeline timeline(NozzleResponseParameters{},
+                                {{-1.0, {0.3, deg_to_rad(10.0)}}, {0.0, {-0.8, deg_to_rad(25.0)}}},
+                                3.0);
+  const ExtendedPredictor predictor(field(), 1e-3);
+  std::vector<double> times;
+  for (int k = -8; k <= 80; ++k) times.push_back(k / 40.0);
+  // 25 cm downstream of the s the re-aim ends at.
+  const Eigen::Vector2d s_end =
+      field()
+          .at({-0.8 + ext.pan_offset_rad, deg_to_rad(25.0) + ext.tilt_offset_rad})
+          .stagnation_point();
+  const WindowStart start{-0.2, s_end + 0.25 * s_end.normalized(), {0.0, 0.0}};
+  std::vector<Eigen::Vector2d> plain, tracked;
+  predictor.predict(kTracerDynamics, ext, timeline, start, times, &plain);
+  const OrientationTrack track = predictor.track(ext, timeline, start.t_s, times.back());
+  ASSERT_TRUE(track.serves(ext, timeline, start.t_s, 1e-3));
+  predictor.predict(kTracerDynamics, ext, timeline, start, times, &tracked, &track);
+  ASSERT_EQ(tracked.size(), plain.size());
+  for (size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(tracked[k], plain[k]) << "sample " << k;
+  EXPECT_GT((plain.back() - start.p_W).norm(), 0.05);  // it moved
+  // Other extensions than the delay and the offset leave the track serving.
+  ModelExtensions pushed = ext;
+  pushed.push_strength_mps2 = 3.0;
+  pushed.field_scale = 1.2;
+  EXPECT_TRUE(track.serves(pushed, timeline, start.t_s, 1e-3));
+  predictor.predict(kTracerDynamics, pushed, timeline, start, times, &plain);
+  predictor.predict(kTracerDynamics, pushed, timeline, start, times, &tracked, &track);
+  for (size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(tracked[k], plain[k]) << "sample " << k;
+  // Another offset, delay, start or step: not served, and not read (the positions are those of
+  // the predictor's own orientations, which differ from the track's).
+  ModelExtensions offset = ext;
+  offset.pan_offset_rad = deg_to_rad(8.0);
+  ModelExtensions delayed = ext;
+  delayed.extra_delay_s = 0.3;
+  ModelExtensions lagged = ext;
+  lagged.transport_pace_s_per_m = 0.7;
+  for (const ModelExtensions& other : {offset, delayed, lagged}) {
+    EXPECT_FALSE(track.serves(other, timeline, start.t_s, 1e-3));
+    predictor.predict(kTracerDynamics, other, timeline, start, times, &plain);
+    predictor.predict(kTracerDynamics, other, timeline, start, times, &tracked, &track);
+    for (size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(tracked[k], plain[k]) << "sample " << k;
+  }
+  EXPECT_FALSE(track.serves(ext, timeline, start.t_s + 1e-3, 1e-3));
+  EXPECT_FALSE(track.serves(ext, timeline, start.t_s, 2e-3));
+  const ExtendedPredictor coarser(field(), 2e-3);
+  coarser.predict(kTracerDynamics, ext, timeline, start, times, &plain);
+  coarser.predict(kTracerDynamics, ext, timeline, start, times, &tracked, &track);
+  for (size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(tracked[k], plain[k]) << "sample " << k;
+  // The transport lag gives each point its own orientation: no track holds that.
+  EXPECT_THROW(predictor.track(lagged, timeline, start.t_s, times.back()), InputError);
+}
+
 TEST(ExtendedPredictor, RejectsBadInput) {
   ModelExtensions bad;
   bad.static_friction_ratio = 0.5;
