@@ -1,5 +1,5 @@
 // The discrepancy analysis (issue 7): one whole `analyse_discrepancy` on Appendix D data from the
-// twin, as `airtwin discrepancy` runs it (baseline, the eight candidates fitted and tested,
+// twin, as `airtwin discrepancy` runs it (baseline, the catalogue's candidates fitted and tested,
 // forward selection; the window evaluations spread over the machine's cores).
 //   BM_DiscrepancyAnalysis/trials:N/screen:S: N tracer trials (half at 0 deg, half at 22.5 deg),
 //     0.5 s lead-in, a nozzle offset of (6, 4) deg hidden in them. The data are collected once,
