@@ -93,25 +93,48 @@ void Evaluator::predict(const ModelExtensions& ext, const std::vector<size_t>& w
   }
   if (residuals != nullptr) residuals->setZero(static_cast<Eigen::Index>(offsets.back()));
   const std::map<std::string, ModelExtensions> typed = extensions_by_type(ext, ws_, which);
+  auto felt_in = [&](const Window& w) -> const ModelExtensions& {
+    return typed.empty() ? ext : typed.at(*w.type);
+  };
+  // Each window's track made ready first, once per window (a bootstrap's resample names some
+  // windows several times), and only read while the windows are predicted.
+  const int f = static_cast<int>(fidelity);
+  std::vector<size_t> distinct = which;
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  parallel_for(distinct.size(), static_cast<int>(std::min<size_t>(threads_, distinct.size())),
+               [&](size_t j) {
+                 const Window& w = ws_.windows[distinct[j]];
+                 const ModelExtensions& felt = felt_in(w);
+                 TrackSlot& s = tracks_[distinct[j]][f];
+                 std::optional<OrientationTrack>& slot = s.track;
+                 if (felt.transport_pace_s_per_m > 0.0 || w.times.empty() ||
+                     (slot && slot->serves(felt, *w.timeline, w.start.t_s, predictor.step_s()))) {
+                   return;
+                 }
+                 const bool again = s.asked && s.extra_delay_s == felt.extra_delay_s &&
+                                    s.pan_offset_rad == felt.pan_offset_rad &&
+                                    s.tilt_offset_rad == felt.tilt_offset_rad;
+                 s.asked = !again;
+                 s.extra_delay_s = felt.extra_delay_s;
+                 s.pan_offset_rad = felt.pan_offset_rad;
+                 s.tilt_offset_rad = felt.tilt_offset_rad;
+                 if (!again) return;
+                 if (slot) track_bytes_ -= slot->bytes();
+                 slot = predictor.track(felt, *w.timeline, w.start.t_s, w.times.back());
+                 track_bytes_ += slot->bytes();
+                 if (track_bytes_ > kTrackBytes) {  // over the bound: this window goes without
+                   track_bytes_ -= slot->bytes();
+                   slot.reset();
+                 }
+               });
   auto work = [&](size_t begin, size_t end) {
     std::vector<Eigen::Vector2d> predicted;
     for (size_t i = begin; i < end; ++i) {
       const Window& w = ws_.windows[which[i]];
-      const ModelExtensions& felt = typed.empty() ? ext : typed.at(*w.type);
-      const OrientationTrack* track = nullptr;
-      if (felt.transport_pace_s_per_m == 0.0 && !w.times.empty()) {
-        std::optional<OrientationTrack>& slot = tracks_[which[i]][static_cast<int>(fidelity)];
-        if (!slot || !slot->serves(felt, *w.timeline, w.start.t_s, predictor.step_s())) {
-          if (slot) track_bytes_ -= slot->bytes();
-          slot = predictor.track(felt, *w.timeline, w.start.t_s, w.times.back());
-          track_bytes_ += slot->bytes();
-          if (track_bytes_ > kTrackBytes) {  // over the bound: this window goes without
-            track_bytes_ -= slot->bytes();
-            slot.reset();
-          }
-        }
-        if (slot) track = &*slot;
-      }
+      const ModelExtensions& felt = felt_in(w);
+      const std::optional<OrientationTrack>& slot = tracks_[which[i]][f].track;
+      const OrientationTrack* track = slot ? &*slot : nullptr;  // predict() reads it if it serves
       predictor.predict(*w.xi, felt, *w.timeline, w.start, w.times, &predicted, track);
       const double norm = 1.0 / (w.scale_m * std::sqrt(static_cast<double>(w.times.size())));
       double sum = 0.0;

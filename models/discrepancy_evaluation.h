@@ -100,10 +100,17 @@ class Evaluator {
   const WindowSet& ws_;
   unsigned threads_ = 1;
   // Each window's orientations at each fidelity (ExtendedPredictor::track), for the latest
-  // response delay and nozzle offset it was predicted under; at most kTrackBytes in all. A window
-  // is predicted by one thread of one evaluate() at a time.
+  // response delay and nozzle offset it was predicted under; at most kTrackBytes in all. Made
+  // ready before the windows are predicted (evaluate() is not called concurrently).
+  // A track is made when a window is predicted a second time in a row under the same delay and
+  // offset (a fit of the nozzle offset changes them at every evaluation: no track would serve).
   static constexpr size_t kTrackBytes = size_t{96} << 20;
-  mutable std::vector<std::array<std::optional<OrientationTrack>, 2>> tracks_;
+  struct TrackSlot {
+    std::optional<OrientationTrack> track;
+    bool asked = false;  // the last evaluation's delay and offset, when no track serves them
+    double extra_delay_s = 0.0, pan_offset_rad = 0.0, tilt_offset_rad = 0.0;
+  };
+  mutable std::vector<std::array<TrackSlot, 2>> tracks_;
   mutable std::atomic<size_t> track_bytes_{0};
   mutable std::mutex kept_mutex_;
   mutable std::list<Kept> kept_;  // the latest first

@@ -139,6 +139,32 @@ TEST_F(EvaluatorTest, WhatChangesAPredictionOrWhatIsAskedIsNotARepeat) {
   EXPECT_EQ(ev.repeats_answered(), 2u);
 }
 
+// A bootstrap's resample names windows several times: each is predicted as alone, on every
+// thread, and again once the windows' orientations are kept (the second evaluation under the same
+// delay and offset makes them).
+TEST_F(EvaluatorTest, AResampleNamingWindowsTwiceIsPredictedAsEachAlone) {
+  // The list twice over: a window's two entries fall to different threads.
+  std::vector<size_t> twice = all_;
+  twice.insert(twice.end(), all_.begin(), all_.end());
+  std::vector<WindowScore> alone;
+  evaluator().evaluate(ModelExtensions{}, all_, &alone, nullptr);
+  const Evaluator ev = evaluator();
+  for (double scale : {1.0, 1.05, 1.1}) {  // other extensions: predicted each time
+    ModelExtensions x;
+    x.field_scale = scale;
+    std::vector<WindowScore> s, expected;
+    evaluator().evaluate(x, all_, &expected, nullptr);
+    ev.evaluate(x, twice, &s, nullptr);
+    ASSERT_EQ(s.size(), twice.size());
+    for (size_t k = 0; k < twice.size(); ++k) {
+      EXPECT_EQ(s[k].path_error, expected[k % all_.size()].path_error)
+          << "scale " << scale << ", entry " << k;
+    }
+    if (scale == 1.0) expect_same({s.begin(), s.begin() + all_.size()}, alone);
+  }
+  EXPECT_EQ(ev.evaluations_predicted(), 3u);
+}
+
 TEST_F(EvaluatorTest, KeepsAtMostItsBoundOfResults) {
   const Evaluator ev = evaluator();
   std::vector<WindowScore> s;
