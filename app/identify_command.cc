@@ -74,6 +74,22 @@ void print_summary(const IdentifiedModel& m, const std::string& out) {
                 m.n_mape_trajectories);
     for (const auto& [tilt, mape] : m.end_position_mape_by_tilt_pct)
       std::printf("; %g deg: %.1f%%", tilt, mape);
+    // Where around s the model errs (models/trajectory_replay.h): n, MAPE and how many it
+    // predicted to stay at rest, per sector.
+    for (const auto& [tilt, sectors] : m.end_position_by_sector) {
+      std::printf("\n    %g deg by placement from s:", tilt);
+      const char* sep = " ";
+      for (const PlacementSectorInfo& info : kPlacementSectorCatalogue) {
+        const SectorFigures& f = sectors[static_cast<size_t>(info.sector)];
+        if (f.n == 0) {
+          std::printf("%s%s none", sep, info.name);
+        } else {
+          std::printf("%s%s %.1f%% over %zu (%zu predicted at rest)", sep, info.name, f.mape_pct,
+                      f.n, f.n_predicted_rest);
+        }
+        sep = "; ";
+      }
+    }
   }
   if (!m.moved_by_tilt.empty()) {
     std::printf("\n  set in motion (moved at least 1 cm):");

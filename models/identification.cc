@@ -74,6 +74,7 @@ IdentifiedModel identify_trajectories(const TrajectorySet& set, const std::strin
         replay_trajectories(selected, field, m.eq8(), FastPredictor(), o.replay);
     if (replay.n_used > 0) m.end_position_mape_pct = replay.mape_pct;
     m.end_position_mape_by_tilt_pct = replay.mape_by_tilt_pct;
+    m.end_position_by_sector = replay.by_tilt_sector;
     m.n_mape_trajectories = replay.n_used;
     m.n_mape_excluded = replay.n_excluded;
   }

@@ -77,6 +77,18 @@ std::string identified_model_json(const IdentifiedModel& m) {
   json by_tilt = json::object();
   for (const auto& [tilt, mape] : m.end_position_mape_by_tilt_pct) by_tilt[tilt_key(tilt)] = mape;
   j["end_position_mape_by_tilt"] = by_tilt;
+  json by_sector = json::object();
+  for (const auto& [tilt, sectors] : m.end_position_by_sector) {
+    json per = json::object();
+    for (const PlacementSectorInfo& info : kPlacementSectorCatalogue) {
+      const SectorFigures& f = sectors[static_cast<size_t>(info.sector)];
+      per[info.name] = {{"n", f.n},
+                        {"mape", f.n ? json(f.mape_pct) : json(nullptr)},
+                        {"predicted_rest", f.n_predicted_rest}};
+    }
+    by_sector[tilt_key(tilt)] = per;
+  }
+  j["end_position_by_sector"] = by_sector;
   j["n_mape_trajectories"] = m.n_mape_trajectories;
   j["n_mape_excluded"] = m.n_mape_excluded;
   json moved = json::object();

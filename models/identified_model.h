@@ -7,11 +7,13 @@
 // inclusion_probability, r2, end_position_mape (percent; null when it cannot be computed, e.g. a
 // speed series has no positions), n_samples, n_dropped; then the details: eq8 ({xi1, xi2, xi3}
 // when only the terms 1, v, vair are active, else null), r2_change, end_position_mape_by_tilt,
-// n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories, n_glitches_repaired,
-// n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda, library, bootstraps,
-// seed, smoothing_half_window, position_noise_m, positions_smoothed, stationary_speed_mps, source.
+// end_position_by_sector, n_mape_trajectories, n_mape_excluded, n_pairs, n_trajectories,
+// n_glitches_repaired, n_short_trajectories, n_off_radial, n_transient, transient_s, dt_s, lambda,
+// library, bootstraps, seed, smoothing_half_window, position_noise_m, positions_smoothed,
+// stationary_speed_mps, source.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -21,6 +23,7 @@
 
 #include "models/object_dynamics.h"
 #include "models/sindy.h"
+#include "models/trajectory_replay.h"
 
 namespace airtwin {
 
@@ -36,6 +39,9 @@ struct IdentifiedModel {
   double r2_change = 0.0;  ///< of v_{k+1} - v_k (stricter)
   std::optional<double> end_position_mape_pct;
   std::map<double, double> end_position_mape_by_tilt_pct;  ///< tilt (deg) -> MAPE (%)
+  /// Tilt (deg) -> the end-position figures by placement sector (models/trajectory_replay.h):
+  /// where around s the model errs. Written, not read back.
+  std::map<double, std::array<SectorFigures, kPlacementSectors>> end_position_by_sector;
   size_t n_samples = 0, n_dropped = 0, n_pairs = 0, n_trajectories = 0;
   size_t n_glitches_repaired = 0, n_short_trajectories = 0;
   size_t n_off_radial = 0, n_transient = 0;  ///< moving samples not used (docs/identification.md)

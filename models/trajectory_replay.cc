@@ -6,6 +6,8 @@
 #include <limits>
 
 #include "common/errors.h"
+#include "common/units.h"
+#include "models/nozzle_geometry.h"
 
 namespace airtwin {
 
@@ -33,6 +35,13 @@ ObjectState start_state(const std::vector<TrajectorySample>& s) {
   start.p_W = fit.p_W;
   start.v = fit.v_W.norm();
   return start;
+}
+
+PlacementSector placement_sector(double bearing_deg) {
+  for (const PlacementSectorInfo& info : kPlacementSectorCatalogue) {
+    if (bearing_deg < info.max_bearing_deg) return info.sector;
+  }
+  return PlacementSector::kUpstream;
 }
 
 ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& field,
@@ -75,6 +84,15 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
                       prediction);
     out.predicted_end_W = prediction.end[0].p_W;
     out.error_m = (out.predicted_end_W - out.measured_end_W).norm();
+    out.predicted_travel_m = (out.predicted_end_W - out.start_W).norm();
+    const NozzleOrientation& first = s.front().nozzle;
+    const Eigen::Vector2d from_s = out.start_W - stagnation_point(field.geometry(), first);
+    if (from_s.norm() >= kOnStagnationPoint_m) {
+      const Eigen::Vector2d pan(std::cos(first.pan_rad), std::sin(first.pan_rad));
+      out.bearing_deg = rad_to_deg(
+          std::atan2(std::abs(pan.x() * from_s.y() - pan.y() * from_s.x()), pan.dot(from_s)));
+    }
+    out.sector = placement_sector(out.bearing_deg);
     if (out.travel_m < options.min_travel_m) {
       ++report.n_excluded;
       report.trajectories.push_back(out);
@@ -88,12 +106,22 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
       auto& [sum, count] = by_tilt[out.tilt_deg];
       sum += out.error_pct;
       ++count;
+      SectorFigures& f = report.by_tilt_sector[out.tilt_deg][static_cast<size_t>(out.sector)];
+      ++f.n;
+      f.mape_pct += out.error_pct;  // a sum until the end
+      if (out.predicted_travel_m < options.min_travel_m) ++f.n_predicted_rest;
     }
     report.trajectories.push_back(out);
   }
   report.mape_pct =
       report.n_used ? sum_pct / report.n_used : std::numeric_limits<double>::quiet_NaN();
   for (const auto& [tilt, acc] : by_tilt) report.mape_by_tilt_pct[tilt] = acc.first / acc.second;
+  for (auto& [tilt, sectors] : report.by_tilt_sector) {
+    for (SectorFigures& f : sectors) {
+      f.mape_pct =
+          f.n ? f.mape_pct / static_cast<double>(f.n) : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
   return report;
 }
 

@@ -14,7 +14,16 @@
 // the path length there, and it does not grow with detection noise as a summed path would).
 // Trajectories with fewer than 3 samples, or that travelled less than `min_travel_m` (no
 // meaningful percentage), are excluded and counted.
+//
+// Where the model errs, by placement: each trajectory under one command is put in a sector by its
+// start's bearing from the model's s, measured from the nozzle's pan direction (0 deg: beyond s,
+// away from the point below the nozzle, where an oblique jet's wall jet is strongest; 180 deg:
+// between s and that point, where it is weakest). Appendix D places objects in every direction
+// around s; an oblique jet's upstream air lies near the start threshold of motion, where a model
+// that predicts rest and an object that slides a few cm differ by 100 %.
 
+#include <array>
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -25,6 +34,31 @@
 #include "models/trajectory_predictor.h"
 
 namespace airtwin {
+
+/// The placement sectors, by bearing from s against the pan direction (see the top of this file).
+enum class PlacementSector { kDownstream, kSide, kUpstream };
+inline constexpr size_t kPlacementSectors = 3;
+struct PlacementSectorInfo {
+  PlacementSector sector;
+  const char* name;
+  double max_bearing_deg;  ///< the sector holds bearings up to this (from the previous sector's)
+};
+inline constexpr std::array<PlacementSectorInfo, kPlacementSectors> kPlacementSectorCatalogue{{
+    {PlacementSector::kDownstream, "downstream", 60.0},
+    {PlacementSector::kSide, "side", 120.0},
+    {PlacementSector::kUpstream, "upstream", 180.0},
+}};
+/// A start closer than this to s (m) has no bearing worth the name: it counts as 0 deg.
+inline constexpr double kOnStagnationPoint_m = 1e-3;
+/// The sector of a bearing in [0, 180] deg: downstream below 60, side below 120, upstream above.
+PlacementSector placement_sector(double bearing_deg);
+
+/// One sector's figures over the used trajectories under one command.
+struct SectorFigures {
+  size_t n = 0;                 ///< trajectories
+  double mape_pct = 0.0;        ///< mean error_pct; NaN when n is 0
+  size_t n_predicted_rest = 0;  ///< of them, predicted to move less than min_travel_m
+};
 
 struct ReplayOptions {
   double min_travel_m = 0.01;  ///< trajectories that moved less are excluded from the MAPE
@@ -41,6 +75,11 @@ struct ReplayedTrajectory {
   double travel_m = 0.0;
   double error_m = 0.0;
   double error_pct = 0.0;  ///< 100 error / travel
+  /// The start's bearing from the model's s at the first command, from the pan direction (deg,
+  /// [0, 180]), and its sector; 0 and downstream within kOnStagnationPoint_m of s.
+  double bearing_deg = 0.0;
+  PlacementSector sector = PlacementSector::kDownstream;
+  double predicted_travel_m = 0.0;  ///< from the start to the predicted end
 };
 
 struct ReplayReport {
@@ -50,6 +89,8 @@ struct ReplayReport {
   double mape_pct = 0.0;  ///< mean of error_pct over the used trajectories; NaN when none
   /// MAPE per tilt (deg, rounded to 1e-3) over used trajectories with a constant command.
   std::map<double, double> mape_by_tilt_pct;
+  /// The same per tilt and placement sector (indexed by PlacementSector).
+  std::map<double, std::array<SectorFigures, kPlacementSectors>> by_tilt_sector;
 };
 
 /// Frames used for the start state.

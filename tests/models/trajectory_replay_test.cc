@@ -7,10 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
+#include <string>
 
 #include "common/units.h"
 #include "models/cvode_predictor.h"
 #include "models/fast_predictor.h"
+#include "models/nozzle_geometry.h"
 #include "tests/support/synthetic_trajectories.h"
 
 namespace airtwin {
@@ -88,6 +91,78 @@ TEST(TrajectoryReplay, TooShortOrMotionlessTrajectoriesAreCountedNotUsed) {
   EXPECT_EQ(r.n_used, 0u);
   EXPECT_EQ(r.n_excluded, 2u);
   EXPECT_TRUE(std::isnan(r.mape_pct));
+}
+
+TEST(TrajectoryReplay, SectorsFollowTheBearingFromSAgainstThePan) {
+  EXPECT_EQ(placement_sector(0.0), PlacementSector::kDownstream);
+  EXPECT_EQ(placement_sector(59.999), PlacementSector::kDownstream);
+  EXPECT_EQ(placement_sector(60.0), PlacementSector::kSide);
+  EXPECT_EQ(placement_sector(119.999), PlacementSector::kSide);
+  EXPECT_EQ(placement_sector(120.0), PlacementSector::kUpstream);
+  EXPECT_EQ(placement_sector(180.0), PlacementSector::kUpstream);
+
+  // Starts at known bearings beta around s (either side of the pan direction), each travelling
+  // 20 cm radially; one start on s itself.
+  const AirFieldModel model = AirFieldModel::with_constructed_table();
+  const NozzleOrientation o{deg_to_rad(30), deg_to_rad(22.5)};
+  const Eigen::Vector2d s = stagnation_point(model.geometry(), o);
+  const double betas[] = {10, -45, 90, -100, 150, -180, 175};
+  TrajectorySet set;
+  for (double beta : betas) {
+    const double a = o.pan_rad + deg_to_rad(beta);
+    const Eigen::Vector2d e(std::cos(a), std::sin(a));
+    Trajectory tr;
+    tr.id = std::to_string(beta);
+    for (int k = 0; k < 40; ++k) tr.samples.push_back({0.025 * k, s + 0.3 * e, o});
+    tr.samples.back().p_W = s + 0.5 * e;
+    set.trajectories.push_back(tr);
+  }
+  Trajectory on_s;
+  on_s.id = "on s";
+  for (int k = 0; k < 40; ++k) on_s.samples.push_back({0.025 * k, s, o});
+  on_s.samples.back().p_W = s + Eigen::Vector2d(0.0, 0.2);
+  set.trajectories.push_back(on_s);
+
+  // Twice: with the tracer's model, and with a friction no air overcomes (all predicted at rest).
+  for (const ObjectDynamics& d : {kTracerDynamics, ObjectDynamics{-2.66, 4.26, -100.0}}) {
+    const ReplayReport r = replay_trajectories(set, model, d, FastPredictor());
+    ASSERT_EQ(r.trajectories.size(), std::size(betas) + 1);
+    for (size_t i = 0; i < std::size(betas); ++i) {
+      EXPECT_NEAR(r.trajectories[i].bearing_deg, std::abs(betas[i]), 1e-9) << betas[i];
+      EXPECT_EQ(r.trajectories[i].sector, placement_sector(std::abs(betas[i])));
+    }
+    EXPECT_EQ(r.trajectories.back().bearing_deg, 0.0);
+    EXPECT_EQ(r.trajectories.back().sector, PlacementSector::kDownstream);
+
+    // Each sector's figures are its trajectories' own, gathered here a second way.
+    ASSERT_EQ(r.by_tilt_sector.size(), 1u);
+    const auto& sectors = r.by_tilt_sector.at(22.5);
+    for (const PlacementSectorInfo& info : kPlacementSectorCatalogue) {
+      size_t n = 0, rest = 0;
+      double sum = 0.0;
+      for (const ReplayedTrajectory& t : r.trajectories) {
+        if (!t.used || t.sector != info.sector) continue;
+        ++n;
+        sum += t.error_pct;
+        if ((t.predicted_end_W - t.start_W).norm() < 0.01) ++rest;
+      }
+      const SectorFigures& f = sectors[static_cast<size_t>(info.sector)];
+      EXPECT_EQ(f.n, n) << info.name;
+      EXPECT_EQ(f.n_predicted_rest, rest) << info.name;
+      EXPECT_NEAR(f.mape_pct, sum / n, 1e-9) << info.name;
+    }
+    EXPECT_EQ(sectors[0].n, 3u);  // 10, -45 and the start on s
+    EXPECT_EQ(sectors[1].n, 2u);  // 90, -100
+    EXPECT_EQ(sectors[2].n, 3u);  // 150, -180, 175
+  }
+  // With the friction no air overcomes, nothing is predicted to move: every error is the whole
+  // travel.
+  const ReplayReport stuck =
+      replay_trajectories(set, model, ObjectDynamics{-2.66, 4.26, -100.0}, FastPredictor());
+  for (const SectorFigures& f : stuck.by_tilt_sector.at(22.5)) {
+    EXPECT_EQ(f.n_predicted_rest, f.n);
+    EXPECT_NEAR(f.mape_pct, 100.0, 1e-9);
+  }
 }
 
 }  // namespace
