@@ -113,11 +113,20 @@ nlohmann::ordered_json held_out_json(const std::vector<DragCalibrationCheck>& ch
   const DragCheckSummary sum = summarize_checks(checks);
   nlohmann::ordered_json by_tilt = nlohmann::ordered_json::object();
   for (const auto& [tilt, v] : sum.mape_by_tilt_pct) by_tilt[format_number(tilt)] = spread(v);
+  nlohmann::ordered_json by_sector = nlohmann::ordered_json::object();
+  for (const auto& [tilt, sectors] : sum.mape_by_tilt_sector_pct) {
+    nlohmann::ordered_json per = nlohmann::ordered_json::object();
+    for (const PlacementSectorInfo& info : kPlacementSectorCatalogue) {
+      per[info.name] = spread(sectors[static_cast<size_t>(info.sector)]);
+    }
+    by_sector[format_number(tilt)] = per;
+  }
   return {{"seeds", rows.size()},
           {"summary",
            {{"air_term_lost", sum.air_term_lost},
             {"worst_relative_error", spread(sum.worst_relative_error)},
             {"end_position_mape_by_tilt", by_tilt},
+            {"end_position_mape_by_sector", by_sector},
             {"repeatability_pct", spread(sum.repeatability_pct)},
             {"full_library_is_eq8", sum.full_library_is_eq8}}},
           {"checks", rows}};
@@ -135,6 +144,15 @@ std::string held_out_text(const nlohmann::ordered_json& summary, size_t seeds) {
   std::string mapes;
   for (const auto& [tilt, s] : summary["end_position_mape_by_tilt"].items()) {
     mapes += (mapes.empty() ? "" : ", ") + tilt + " deg " + range(s, 1.0) + " %";
+  }
+  // Where around s (models/trajectory_replay.h): each sector's spread over the collections.
+  for (const auto& [tilt, sectors] : summary["end_position_mape_by_sector"].items()) {
+    mapes += "\n    " + tilt + " deg by placement from s:";
+    const char* sep = " ";
+    for (const auto& [name, s] : sectors.items()) {
+      mapes += sep + name + " " + range(s, 1.0) + " %";
+      sep = ", ";
+    }
   }
   const int lost = summary["air_term_lost"].get<int>();
   return "held out, " + std::to_string(seeds) + " collections: the air term lost in " +

@@ -96,6 +96,7 @@ DragCalibrationPoint evaluate_drag_point(const DragCalibrationOptions& o,
   p.r2 = m.r2;
   p.end_position_mape_pct = m.end_position_mape_pct.value_or(NAN);
   p.mape_by_tilt_pct = m.end_position_mape_by_tilt_pct;
+  p.by_sector = m.end_position_by_sector;
   const ObjectDynamics& t = o.target;
   p.worst_relative_error =
       std::max({std::abs(p.eq8_form.xi1 / t.xi1 - 1.0), std::abs(p.eq8_form.xi2 / t.xi2 - 1.0),
@@ -237,6 +238,7 @@ DragCheckSummary summarize_checks(const std::vector<DragCalibrationCheck>& check
   DragCheckSummary out;
   std::vector<double> worst, repeatability;
   std::map<double, std::vector<double>> mape;
+  std::map<double, std::array<std::vector<double>, kPlacementSectors>> by_sector;
   for (const DragCalibrationCheck& k : checks) {
     if (std::isfinite(k.repeatability_pct)) repeatability.push_back(k.repeatability_pct);
     if (k.point.full_library_is_eq8) ++out.full_library_is_eq8;
@@ -246,9 +248,19 @@ DragCheckSummary summarize_checks(const std::vector<DragCalibrationCheck>& check
     }
     worst.push_back(k.point.worst_relative_error);
     for (const auto& [tilt, m] : k.point.mape_by_tilt_pct) mape[tilt].push_back(m);
+    for (const auto& [tilt, sectors] : k.point.by_sector) {
+      for (size_t i = 0; i < kPlacementSectors; ++i) {
+        if (sectors[i].n > 0) by_sector[tilt][i].push_back(sectors[i].mape_pct);
+      }
+    }
   }
   out.worst_relative_error = spread_of(worst);
   for (const auto& [tilt, v] : mape) out.mape_by_tilt_pct[tilt] = spread_of(v);
+  for (const auto& [tilt, sectors] : by_sector) {
+    for (size_t i = 0; i < kPlacementSectors; ++i) {
+      out.mape_by_tilt_sector_pct[tilt][i] = spread_of(sectors[i]);
+    }
+  }
   out.repeatability_pct = spread_of(repeatability);
   return out;
 }

@@ -15,6 +15,7 @@
 // as given (the paper's: the full cubic library), whose selected terms are reported beside it -
 // the paper's identification found exactly eq. (8)'s on its rig.
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,6 +26,7 @@
 
 #include "models/identification.h"
 #include "models/object_dynamics.h"
+#include "models/trajectory_replay.h"
 #include "sim/collection.h"
 #include "sim/object_physics.h"
 
@@ -57,6 +59,8 @@ struct DragCalibrationPoint {
   double r2 = 0.0;             ///< of that fit
   double end_position_mape_pct = 0.0;
   std::map<double, double> mape_by_tilt_pct;
+  /// By tilt and placement sector around s (models/trajectory_replay.h).
+  std::map<double, std::array<SectorFigures, kPlacementSectors>> by_sector;
   double worst_relative_error = 0.0;  ///< max_j |eq8_form_j / target_j - 1|
   std::string full_library_terms;     ///< the terms the given options selected, "v,v^2,..."
   bool full_library_is_eq8 = false;   ///< they are exactly 1, v, vair
@@ -125,6 +129,9 @@ struct DragCheckSummary {
   int air_term_lost = 0;
   DragCheckSpread worst_relative_error;
   std::map<double, DragCheckSpread> mape_by_tilt_pct;  ///< by tilt (deg)
+  /// By tilt and placement sector: the spread of the sector's MAPE over the checks whose
+  /// collection placed objects there.
+  std::map<double, std::array<DragCheckSpread, kPlacementSectors>> mape_by_tilt_sector_pct;
   DragCheckSpread repeatability_pct;
   int full_library_is_eq8 = 0;  ///< checks whose full library selected exactly 1, v, vair
 };

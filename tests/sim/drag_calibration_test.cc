@@ -151,6 +151,21 @@ TEST(DragCalibration, HeldOutChecksAreTheSearchesOwnFiguresAtOtherSeeds) {
                    0.5 * (two[0].point.worst_relative_error + two[1].point.worst_relative_error));
   EXPECT_EQ(both.worst_relative_error.min,
             std::min(two[0].point.worst_relative_error, two[1].point.worst_relative_error));
+  // Each placement sector's spread is over the checks that placed objects there.
+  for (DragCalibrationCheck& k : two) k.point.by_sector.clear();
+  two[0].point.by_sector[22.5][2] = {3, 80.0, 2};
+  two[1].point.by_sector[22.5][2] = {2, 100.0, 2};
+  two[0].point.by_sector[22.5][1] = {4, 20.0, 0};
+  const DragCheckSummary sectors = summarize_checks(two);
+  ASSERT_EQ(sectors.mape_by_tilt_sector_pct.size(), 1u);
+  const auto& s22 = sectors.mape_by_tilt_sector_pct.at(22.5);
+  EXPECT_EQ(s22[0].n, 0u);
+  EXPECT_EQ(s22[1].n, 1u);
+  EXPECT_EQ(s22[1].median, 20.0);
+  EXPECT_EQ(s22[2].n, 2u);
+  EXPECT_DOUBLE_EQ(s22[2].median, 90.0);
+  EXPECT_EQ(s22[2].min, 80.0);
+  EXPECT_EQ(s22[2].max, 100.0);
   two[1].point.eq8_form.xi2 = 0.0;
   two[1].repeatability_pct = NAN;
   const DragCheckSummary one = summarize_checks(two);
