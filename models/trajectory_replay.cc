@@ -84,7 +84,6 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
                       prediction);
     out.predicted_end_W = prediction.end[0].p_W;
     out.error_m = (out.predicted_end_W - out.measured_end_W).norm();
-    out.predicted_travel_m = (out.predicted_end_W - out.start_W).norm();
     const NozzleOrientation& first = s.front().nozzle;
     const Eigen::Vector2d from_s = out.start_W - stagnation_point(field.geometry(), first);
     if (from_s.norm() >= kOnStagnationPoint_m) {
@@ -92,7 +91,6 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
       out.bearing_deg = rad_to_deg(
           std::atan2(std::abs(pan.x() * from_s.y() - pan.y() * from_s.x()), pan.dot(from_s)));
     }
-    out.sector = placement_sector(out.bearing_deg);
     if (out.travel_m < options.min_travel_m) {
       ++report.n_excluded;
       report.trajectories.push_back(out);
@@ -106,10 +104,11 @@ ReplayReport replay_trajectories(const TrajectorySet& set, const AirFieldModel& 
       auto& [sum, count] = by_tilt[out.tilt_deg];
       sum += out.error_pct;
       ++count;
-      SectorFigures& f = report.by_tilt_sector[out.tilt_deg][static_cast<size_t>(out.sector)];
+      const PlacementSector sector = placement_sector(out.bearing_deg);
+      SectorFigures& f = report.by_tilt_sector[out.tilt_deg][static_cast<size_t>(sector)];
       ++f.n;
       f.mape_pct += out.error_pct;  // a sum until the end
-      if (out.predicted_travel_m < options.min_travel_m) ++f.n_predicted_rest;
+      if ((out.predicted_end_W - out.start_W).norm() < options.min_travel_m) ++f.n_predicted_rest;
     }
     report.trajectories.push_back(out);
   }

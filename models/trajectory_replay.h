@@ -76,10 +76,8 @@ struct ReplayedTrajectory {
   double error_m = 0.0;
   double error_pct = 0.0;  ///< 100 error / travel
   /// The start's bearing from the model's s at the first command, from the pan direction (deg,
-  /// [0, 180]), and its sector; 0 and downstream within kOnStagnationPoint_m of s.
+  /// [0, 180]; placement_sector gives its sector); 0 within kOnStagnationPoint_m of s.
   double bearing_deg = 0.0;
-  PlacementSector sector = PlacementSector::kDownstream;
-  double predicted_travel_m = 0.0;  ///< from the start to the predicted end
 };
 
 struct ReplayReport {
